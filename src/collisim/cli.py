@@ -1,0 +1,117 @@
+"""The `collisim` command: list scenes, render them (more subcommands join here).
+
+Bad input gives one line on stderr and exit status 2; never a traceback, never a partial file.
+"""
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+import warnings
+from pathlib import Path
+
+from .engine.profile import Profile
+from .scene import QUALITY_SIZES, available_scenes, describe_scene_file, load_scene
+
+
+class OneLineParser(argparse.ArgumentParser):
+    """argparse that reports a usage mistake in one line instead of usage + error."""
+
+    def error(self, message):
+        self.exit(2, f"collisim: error: {message} (see {self.prog} --help)\n")
+
+
+def parse_size(text: str) -> tuple:
+    try:
+        width, height = (int(v) for v in text.lower().split("x"))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"size must look like 1280x720, got '{text}'") from None
+    return width, height
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = OneLineParser(prog="collisim", description="Render collision simulations to video.")
+    commands = parser.add_subparsers(dest="command", required=True, parser_class=OneLineParser)
+    commands.add_parser("list", help="list the scenes with a one-line description")
+    render = commands.add_parser("render", help="render a scene to MP4 (or one frame to PNG)")
+    render.add_argument("scene", help="scene name (e.g. single_bounce) or path to a scene file")
+    render.add_argument("--out", type=Path, help="output file (default renders/<scene>.mp4)")
+    render.add_argument("--fps", type=float, help="frames per second of the video")
+    render.add_argument("--seconds", type=float, help="duration")
+    render.add_argument("--size", type=parse_size, help="frame size WxH (default: the scene's, by quality)")
+    render.add_argument("--quality", choices=tuple(QUALITY_SIZES), default="m",
+                        help="l 480p / m 720p / h 1080p, with matching encoder quality")
+    render.add_argument("--codec", choices=("h264", "mp4v"), default="h264")
+    render.add_argument("--png", type=int, metavar="FRAME", help="write frame FRAME as PNG instead of a video")
+    render.add_argument("--method", choices=("discrete", "ccd"))
+    render.add_argument("--substeps", type=int, help="discrete steps per frame")
+    render.add_argument("--broadphase", help="broad phase: brute, sweep_prune, grid, kdtree, bvh")
+    render.add_argument("--restitution", type=float, help="coefficient of restitution e in [0, 1]")
+    render.add_argument("--profile", action="store_true", help="print time per phase at the end")
+    render.add_argument("--no-progress", action="store_true", help="no progress bar")
+    return parser
+
+
+def cmd_list(args) -> int:
+    scenes = available_scenes()
+    width = max((len(name) for name in scenes), default=0)
+    for name, path in scenes.items():
+        print(f"{name:<{width}}  {describe_scene_file(path)}")
+    return 0
+
+
+def cmd_render(args) -> int:
+    from .render import render
+
+    scene = load_scene(args.scene).with_options(
+        fps=args.fps, seconds=args.seconds, method=args.method, substeps=args.substeps,
+        broadphase=args.broadphase, restitution=args.restitution)
+    if args.broadphase is not None:
+        from .broadphase import METHODS
+        if args.broadphase not in METHODS:
+            raise ValueError(f"unknown broad phase '{args.broadphase}'; choose one of: {', '.join(METHODS)}")
+    suffix = ".png" if args.png is not None else ".mp4"
+    out = args.out or Path("renders") / f"{scene.name}{suffix}"
+    profile = {} if args.profile else None
+    start = time.perf_counter()
+    path = render(scene, out, args.size, codec=args.codec, quality=args.quality, png_frame=args.png,
+                  progress=not args.no_progress, profile=profile)
+    seconds = time.perf_counter() - start
+    what = f"frame {args.png}" if args.png is not None else f"{scene.frames} frames at {scene.fps:g} fps, {args.codec}"
+    print(f"{path}: {what}, {_size_of(path)}, {seconds:.1f} s")
+    if profile:
+        table = Profile()
+        table.seconds = profile
+        print(table.table())
+    return 0
+
+
+def _size_of(path: Path) -> str:
+    import cv2
+    if path.suffix == ".png":
+        height, width = cv2.imread(str(path)).shape[:2]
+    else:
+        capture = cv2.VideoCapture(str(path))
+        width, height = int(capture.get(cv2.CAP_PROP_FRAME_WIDTH)), int(capture.get(cv2.CAP_PROP_FRAME_HEIGHT))
+        capture.release()
+    return f"{width}x{height}"
+
+
+COMMANDS = {"list": cmd_list, "render": cmd_render}
+
+
+def main(argv=None) -> int:
+    args = build_parser().parse_args(argv)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            status = COMMANDS[args.command](args)
+        except ValueError as error:
+            print(f"collisim: error: {error}", file=sys.stderr)
+            status = 2
+        except KeyboardInterrupt:
+            print("collisim: interrupted; no file written", file=sys.stderr)
+            status = 130
+        for warning in caught:
+            print(f"collisim: note: {warning.message}", file=sys.stderr)
+    return status

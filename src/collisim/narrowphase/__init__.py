@@ -1,0 +1,1 @@
+"""Narrow phase: exact tests on the candidate pairs the broad phase reports."""

@@ -1,0 +1,141 @@
+"""Frames to a video file, written under a temporary name and renamed only when complete.
+
+H.264 (yuv420p) through PyAV plays in every browser; the pip wheels of OpenCV cannot write
+H.264, so OpenCV's 'mp4v' is the fallback codec.
+"""
+from __future__ import annotations
+
+import os
+import tempfile
+from fractions import Fraction
+from pathlib import Path
+
+import cv2
+import numpy as np
+
+CODECS = ("h264", "mp4v")
+CRF = {"l": 28, "m": 23, "h": 18}
+
+
+def check_codec(codec: str) -> None:
+    """Raise ValueError when the codec cannot be used on this machine."""
+    if codec not in CODECS:
+        raise ValueError(f"unknown codec '{codec}'; choose one of: {', '.join(CODECS)}")
+    if codec == "h264":
+        import av
+        try:
+            av.codec.Codec("libx264", "w")
+        except Exception:
+            raise ValueError("codec h264 is not available (PyAV has no libx264 encoder); try --codec mp4v") from None
+
+
+def check_writable(folder: Path) -> None:
+    """Create the output folder if needed and prove a file can be written there."""
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        with tempfile.NamedTemporaryFile(dir=folder, prefix=".collisim-probe-"):
+            pass
+    except OSError as error:
+        raise ValueError(f"cannot write to output folder {folder}: {error.strerror or error}") from None
+
+
+def _temporary_beside(path: Path, suffix: str) -> Path:
+    """A new empty file next to `path`, with the permissions a plain open() would give."""
+    handle, name = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}-", suffix=suffix)
+    os.close(handle)
+    umask = os.umask(0)
+    os.umask(umask)
+    os.chmod(name, 0o666 & ~umask)
+    return Path(name)
+
+
+def fps_fraction(fps: float) -> Fraction:
+    return Fraction(fps).limit_denominator(1001)
+
+
+class VideoWriter:
+    """Context manager: `with VideoWriter(path, fps, size) as video: video.write(bgr)`.
+
+    The file appears at `path` only after a clean exit; an error or interrupt removes the
+    temporary file.
+    """
+
+    def __init__(self, path: Path, fps: float, size: tuple, codec: str = "h264", quality: str = "m"):
+        check_codec(codec)
+        self.path = Path(path)
+        self.fps = fps
+        self.width, self.height = size
+        self.codec = codec
+        self.quality = quality
+        self.frames = 0
+        self.temporary = _temporary_beside(self.path, ".mp4")
+
+    def __enter__(self):
+        try:
+            self._open()
+        except BaseException:
+            self.temporary.unlink(missing_ok=True)
+            raise
+        return self
+
+    def _open(self) -> None:
+        if self.codec == "h264":
+            import av
+            self._container = av.open(str(self.temporary), mode="w", format="mp4")
+            stream = self._container.add_stream("libx264", rate=fps_fraction(self.fps))
+            stream.width, stream.height, stream.pix_fmt = self.width, self.height, "yuv420p"
+            stream.options = {"crf": str(CRF[self.quality]), "preset": "veryfast"}
+            self._stream = stream
+        else:
+            fourcc = cv2.VideoWriter_fourcc(*"mp4v")
+            self._cv_writer = cv2.VideoWriter(str(self.temporary), fourcc, float(self.fps),
+                                              (self.width, self.height))
+            if not self._cv_writer.isOpened():
+                raise ValueError("codec mp4v is not available in this OpenCV build")
+
+    def write(self, bgr: np.ndarray) -> None:
+        """bgr: (height, width, 3) uint8."""
+        if self.codec == "h264":
+            import av
+            # OpenCV converts colour faster than the encoder's own scaler
+            yuv = cv2.cvtColor(bgr, cv2.COLOR_BGR2YUV_I420)
+            frame = av.VideoFrame.from_ndarray(yuv, format="yuv420p")
+            frame.pts = self.frames
+            for packet in self._stream.encode(frame):
+                self._container.mux(packet)
+        else:
+            self._cv_writer.write(bgr)
+        self.frames += 1
+
+    def __exit__(self, kind, error, trace):
+        try:
+            self._close(flush=kind is None)
+        finally:
+            if kind is None:
+                os.replace(self.temporary, self.path)
+            else:
+                self.temporary.unlink(missing_ok=True)
+        return False
+
+    def _close(self, flush: bool) -> None:
+        if self.codec == "h264":
+            if flush:
+                for packet in self._stream.encode(None):
+                    self._container.mux(packet)
+            self._container.close()
+        else:
+            self._cv_writer.release()
+
+
+def write_png(path: Path, bgr: np.ndarray) -> None:
+    """Write a PNG under a temporary name, then rename."""
+    name = _temporary_beside(path, ".png")
+    try:
+        ok, data = cv2.imencode(".png", bgr)
+        if not ok:
+            raise ValueError(f"could not encode PNG {path}")
+        Path(name).write_bytes(data.tobytes())
+        os.replace(name, path)
+    except BaseException:
+        Path(name).unlink(missing_ok=True)
+        raise

@@ -1,0 +1,1 @@
+"""Collision response: new velocities for the contacts the narrow phase found."""
