@@ -78,6 +78,9 @@ class Scene:
             raise ValueError(f"unknown method '{self.method}'; choose one of: {', '.join(METHODS)}")
         if int(self.substeps) != self.substeps or self.substeps < 1:
             raise ValueError(f"substeps must be a whole number >= 1, got {self.substeps}")
+        from .broadphase import METHODS as BROAD_PHASES
+        if self.broadphase not in BROAD_PHASES:
+            raise ValueError(f"unknown broad phase '{self.broadphase}'; choose one of: {', '.join(BROAD_PHASES)}")
         if (self.world is None) == (not self.panels):
             raise ValueError("a scene needs either a world or panels")
 

@@ -83,10 +83,26 @@ def draw_arrows(canvas, view, positions, velocities, seconds: float, color_rgb=p
 
 def draw_text(canvas, text: str, origin, scale: float = 0.55, color_rgb=palette.TEXT,
               thickness: int = 1, anchor: str = "left") -> None:
-    """Text whose baseline starts at origin (pixels); anchor 'center' centres it on origin."""
+    """Text whose baseline starts at origin (pixels); anchor 'center' centres it on origin, 'right' ends it there."""
     font = cv2.FONT_HERSHEY_SIMPLEX
     x, y = origin
-    if anchor == "center":
+    if anchor in ("center", "right"):
         (width, _), _ = cv2.getTextSize(text, font, scale, thickness)
-        x -= width // 2
+        x -= width // 2 if anchor == "center" else width
     cv2.putText(canvas, text, (int(x), int(y)), font, scale, bgr(color_rgb), thickness, cv2.LINE_AA)
+
+
+def draw_lines(canvas, view, starts, ends, color_rgb, thickness: int = 1) -> None:
+    """World-space line segments from starts (k, 2) to ends (k, 2)."""
+    color = bgr(color_rgb)
+    for (x0, y0), (x1, y1) in zip(fixed(view.to_pixels(starts)).tolist(), fixed(view.to_pixels(ends)).tolist()):
+        cv2.line(canvas, (x0, y0), (x1, y1), color, thickness, cv2.LINE_AA, SHIFT)
+
+
+def draw_rects(canvas, view, lo, hi, color_rgb, thickness: int = 1) -> None:
+    """World-space axis-aligned rectangles with corners lo (k, 2) and hi (k, 2); thickness -1 fills."""
+    color = bgr(color_rgb)
+    top_left = fixed(view.to_pixels(np.column_stack([np.asarray(lo)[:, 0], np.asarray(hi)[:, 1]]))).tolist()
+    bottom_right = fixed(view.to_pixels(np.column_stack([np.asarray(hi)[:, 0], np.asarray(lo)[:, 1]]))).tolist()
+    for (x0, y0), (x1, y1) in zip(top_left, bottom_right):
+        cv2.rectangle(canvas, (x0, y0), (x1, y1), color, thickness, cv2.LINE_AA, SHIFT)

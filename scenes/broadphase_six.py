@@ -1,0 +1,111 @@
+"""Six particles, once per broad phase, with each structure drawn over them and its candidate pairs highlighted."""
+import numpy as np
+
+import collisim
+from collisim import palette
+from collisim.broadphase import describe
+from collisim.render import raster
+
+TITLES = {"brute": "brute force", "sweep_prune": "sweep and prune", "grid": "uniform grid",
+          "kdtree": "kd-tree", "bvh": "bounding volume hierarchy"}
+BOX = (0.0, 0.0, 10.0, 6.0)
+# the video's six: pink, orange, blue, red, yellow, green
+COLORS = [(255, 122, 190), (255, 160, 60), (94, 172, 255), (240, 80, 80), (255, 226, 110), (120, 220, 160)]
+STRUCTURE = (150, 156, 175)
+# split down to single particles, as the video does, so every level of the trees shows
+OPTIONS = {"kdtree": {"leaf_size": 1}, "bvh": {"leaf_size": 1}}
+
+
+def six_particles():
+    # as in the video, two pairs start with overlapping boxes: pink-orange and red-yellow
+    positions = np.array([[1.8, 4.2], [3.2, 3.1], [5.0, 1.8], [6.6, 4.3], [7.9, 3.9], [8.3, 1.6]])
+    velocities = np.array([[0.3, -0.2], [-0.2, 0.25], [0.3, 0.3], [-0.25, -0.15], [0.2, 0.25], [-0.3, 0.2]])
+    radii = np.array([0.8, 0.75, 0.85, 0.75, 0.85, 0.8])
+    return positions, velocities, radii
+
+
+def draw_pairs(canvas, view, positions, pairs, color, thickness):
+    if len(pairs):
+        raster.draw_lines(canvas, view, positions[pairs[:, 0]], positions[pairs[:, 1]], color, thickness)
+
+
+def draw_sweep(canvas, view, info, lo, hi):
+    """The projected intervals on the sweep axis, stacked in sorted order, and the final active list."""
+    axis, order = info["axis"], info["order"]
+    xmin, ymin, xmax, ymax = BOX
+    for rank, i in enumerate(order):
+        a, b = info["intervals"][i]
+        offset = 0.15 + 0.12 * rank
+        if axis == 0:
+            start, end = [a, ymin + offset], [b, ymin + offset]
+        else:
+            start, end = [xmin + offset, a], [xmin + offset, b]
+        raster.draw_lines(canvas, view, [start], [end], COLORS[i], 3)
+    active = ", ".join(str(i) for i in info["active_steps"][-1]) if info["active_steps"] else ""
+    x, y = view.to_pixels([xmax, ymin])
+    raster.draw_text(canvas, f"sweep {'xy'[axis]}, active list: [{active}]", (x - 4, y - 8), scale=0.38,
+                     color_rgb=palette.DIM_TEXT, anchor="right")
+
+
+def draw_grid(canvas, view, info):
+    nx, ny = info["shape"]
+    size, (ox, oy) = info["cell_size"], info["origin"]
+    xmin, ymin, xmax, ymax = BOX  # the grid covers the boxes; draw the part inside the world
+    xs = np.clip(ox + size * np.arange(nx + 1), xmin, xmax)
+    ys = np.clip(oy + size * np.arange(ny + 1), ymin, ymax)
+    raster.draw_lines(canvas, view, np.column_stack([xs, np.full_like(xs, ys[0])]),
+                      np.column_stack([xs, np.full_like(xs, ys[-1])]), STRUCTURE, 1)
+    raster.draw_lines(canvas, view, np.column_stack([np.full_like(ys, xs[0]), ys]),
+                      np.column_stack([np.full_like(ys, xs[-1]), ys]), STRUCTURE, 1)
+    for cx, cy in zip(*np.nonzero(info["counts"])):
+        x, y = view.to_pixels([ox + (cx + 0.1) * size, oy + (cy + 0.1) * size])
+        raster.draw_text(canvas, str(info["counts"][cx, cy]), (x, y), scale=0.35, color_rgb=palette.HIGHLIGHT)
+
+
+def draw_kdtree(canvas, view, info):
+    for axis, value, node_lo, node_hi, depth in info["splits"]:
+        start, end = np.array(node_lo, float), np.array(node_hi, float)
+        start[axis] = end[axis] = value
+        raster.draw_lines(canvas, view, [start], [end], STRUCTURE, max(1, 3 - depth))
+
+
+def draw_bvh(canvas, view, info):
+    for node_lo, node_hi, depth, is_leaf in info["nodes"]:
+        color = palette.pick(depth + 3) if not is_leaf else STRUCTURE
+        raster.draw_rects(canvas, view, [node_lo], [node_hi], color, 1)
+
+
+DRAW = {"sweep_prune": lambda c, v, info, lo, hi: draw_sweep(c, v, info, lo, hi),
+        "grid": lambda c, v, info, lo, hi: draw_grid(c, v, info),
+        "kdtree": lambda c, v, info, lo, hi: draw_kdtree(c, v, info),
+        "bvh": lambda c, v, info, lo, hi: draw_bvh(c, v, info)}
+
+
+def explainer(method, radii):
+    def overlay(canvas, view, state):
+        positions = state.positions
+        lo, hi = positions - radii[:, None], positions + radii[:, None]
+        info = describe(method, lo, hi, **OPTIONS.get(method, {}))
+        if method in DRAW:
+            DRAW[method](canvas, view, info, lo, hi)
+        all_pairs = np.column_stack(np.triu_indices(len(positions), 1))
+        if method == "brute":
+            draw_pairs(canvas, view, positions, all_pairs, STRUCTURE, 1)
+        draw_pairs(canvas, view, positions, info["pairs"], palette.HIGHLIGHT, 2)
+        x, y = view.to_pixels([BOX[0], BOX[3]])
+        caption = f"{TITLES[method]}: {len(info['pairs'])} candidate pairs of {len(all_pairs)}"
+        raster.draw_text(canvas, caption, (x + 6, y + 18), scale=0.42, color_rgb=palette.TEXT)
+    return overlay
+
+
+def panel(method):
+    positions, velocities, radii = six_particles()
+    world = collisim.World(positions=positions, velocities=velocities, radii=radii, box=BOX, colors=COLORS)
+    settings = collisim.RenderSettings(hud=False, flash=True, overlay=explainer(method, radii))
+    scene = collisim.Scene(world=world, fps=60, seconds=12.0, broadphase=method, render=settings)
+    return collisim.Panel(scene, TITLES[method])
+
+
+def scene() -> collisim.Scene:
+    panels = [panel(method) for method in ("brute", "sweep_prune", "grid", "kdtree", "bvh")]
+    return collisim.Scene(panels=panels, fps=60, seconds=12.0, render=collisim.RenderSettings(layout=(2, 3)))

@@ -1,0 +1,1 @@
+"""Benchmarks: timing collisim's building blocks against reference libraries."""

@@ -1,0 +1,217 @@
+"""Benchmark: time per frame of each broad-phase method as the particle count grows.
+
+The particles are a random "gas": circles at uniform random positions in a
+square sized so the circles cover ``packing`` of its area. Each method is
+timed on the *second* of two frames (the particles nudged a little in
+between), as the engine calls it, so sweep and prune profits from last
+frame's order. Two dashed reference lines put the numbers in context:
+
+* scipy's ``cKDTree`` build + ``query_pairs(r=2 * max radius)`` — a tuned C++
+  spatial index answering a similar question (all centres closer than the
+  largest possible contact distance);
+* one ``pymunk`` ``Space.step(1/60)`` on the same circles — a whole physics
+  step (broad phase, narrow phase and solver) of a real engine.
+
+Writes ``broadphase.csv`` and ``broadphase.png`` to the output folder.
+"""
+
+import csv
+import pathlib
+import sys
+import time
+
+import numpy as np
+
+from collisim.broadphase import METHODS, make
+
+BRUTE_MAX_N = 3000  # brute force above this would take minutes
+RADII = (1.0, 1.5, 2.0)
+RADIUS_SHARES = (0.5, 0.3, 0.2)  # 5 : 3 : 2
+NUDGE = 0.05  # how far (in radii) particles move between the two frames
+REFERENCES = ("scipy_ckdtree", "pymunk_step")
+
+
+def random_gas(n: int, packing: float, seed: int) -> tuple[np.ndarray, np.ndarray]:
+    """n circles, radii 1, 1.5 and 2 in ratio 5:3:2, at uniform random positions
+    in a square whose area is the circles' total area / packing.
+
+    Returns positions (n, 2) and radii (n,).
+    """
+    rng = np.random.default_rng(seed)
+    radii = rng.choice(RADII, size=n, p=RADIUS_SHARES)
+    side = np.sqrt(np.pi * np.sum(radii ** 2) / packing)
+    return rng.uniform(0.0, side, size=(n, 2)), radii
+
+
+def boxes(positions: np.ndarray, radii: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The circles' bounding boxes lo, hi: (n, 2)."""
+    return positions - radii[:, None], positions + radii[:, None]
+
+
+def touching_pairs(positions: np.ndarray, radii: np.ndarray, candidates: np.ndarray) -> int:
+    """How many candidate pairs are circles that really touch or overlap."""
+    i, j = candidates[:, 0], candidates[:, 1]
+    distance = np.hypot(*(positions[i] - positions[j]).T)
+    return int(np.count_nonzero(distance <= radii[i] + radii[j]))
+
+
+def time_method(method: str, frame_a, frame_b, repeats: int) -> tuple[float, np.ndarray]:
+    """Median seconds of .pairs(frame_b) right after .pairs(frame_a), and the pairs."""
+    phase = make(method)
+    seconds = []
+    for _ in range(repeats):
+        phase.pairs(*frame_a)
+        start = time.perf_counter()
+        pairs = phase.pairs(*frame_b)
+        seconds.append(time.perf_counter() - start)
+    return float(np.median(seconds)), pairs
+
+
+def time_ckdtree(positions: np.ndarray, radii: np.ndarray, repeats: int) -> tuple[float, int]:
+    """Median seconds of cKDTree build + query_pairs(2 * max radius), and the pair count."""
+    from scipy.spatial import cKDTree
+
+    seconds = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        pairs = cKDTree(positions).query_pairs(r=2 * radii.max(), output_type="ndarray")
+        seconds.append(time.perf_counter() - start)
+    return float(np.median(seconds)), len(pairs)
+
+
+def time_pymunk(positions: np.ndarray, radii: np.ndarray, repeats: int) -> float:
+    """Median seconds of pymunk Space.step(1/60) on the same circles (mass = area,
+    elasticity 1, friction 0, no gravity), after one warm-up step."""
+    import pymunk
+
+    space = pymunk.Space()
+    for (x, y), radius in zip(positions, radii):
+        mass = np.pi * radius ** 2
+        body = pymunk.Body(mass, pymunk.moment_for_circle(mass, 0, radius))
+        body.position = float(x), float(y)
+        circle = pymunk.Circle(body, float(radius))
+        circle.elasticity, circle.friction = 1.0, 0.0
+        space.add(body, circle)
+    space.step(1 / 60)
+    seconds = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        space.step(1 / 60)
+        seconds.append(time.perf_counter() - start)
+    return float(np.median(seconds))
+
+
+def warm_up() -> None:
+    """Compile (or load from numba's cache) every kernel before anything is
+    timed: two frames each, so sweep and prune's order repair runs too."""
+    positions, radii = random_gas(50, 0.1, 0)
+    for method in METHODS:
+        phase = make(method)
+        phase.pairs(*boxes(positions, radii))
+        phase.pairs(*boxes(positions + 0.01, radii))
+
+
+def measure(sizes, packing: float, repeats: int, seed: int, progress: bool) -> list[dict]:
+    """One row per (method or reference, n): the CSV's columns."""
+    from tqdm import tqdm
+
+    rows = []
+    tasks = sum(len(METHODS) - (n > BRUTE_MAX_N) + len(REFERENCES) for n in sizes)
+    with tqdm(total=tasks, file=sys.stderr, disable=not progress, desc="broad phase") as bar:
+        for n in sizes:
+            positions, radii = random_gas(n, packing, seed)
+            moved = positions + np.random.default_rng(seed + 1).normal(0, NUDGE, positions.shape) * radii[:, None]
+            frame_a, frame_b = boxes(positions, radii), boxes(moved, radii)
+            true_pairs = touching_pairs(moved, radii, make("grid").pairs(*frame_b))
+            for method in METHODS:
+                if method == "brute" and n > BRUTE_MAX_N:
+                    continue
+                bar.set_postfix_str(f"n={n} {method}")
+                seconds, pairs = time_method(method, frame_a, frame_b, repeats)
+                rows.append(dict(method=method, n=n, seconds_per_frame=seconds,
+                                 candidates=len(pairs), true_pairs=true_pairs))
+                bar.update()
+            bar.set_postfix_str(f"n={n} cKDTree")
+            seconds, found = time_ckdtree(moved, radii, repeats)
+            rows.append(dict(method="scipy_ckdtree", n=n, seconds_per_frame=seconds,
+                             candidates=found, true_pairs=true_pairs))
+            bar.update()
+            bar.set_postfix_str(f"n={n} pymunk")
+            rows.append(dict(method="pymunk_step", n=n, seconds_per_frame=time_pymunk(moved, radii, repeats),
+                             candidates="", true_pairs=true_pairs))
+            bar.update()
+    return rows
+
+
+def write_csv(rows: list[dict], path: pathlib.Path) -> None:
+    with open(path, "w", newline="") as file:
+        writer = csv.DictWriter(file, fieldnames=["method", "n", "seconds_per_frame", "candidates", "true_pairs"])
+        writer.writeheader()
+        writer.writerows(rows)
+
+
+def plot(rows: list[dict], path: pathlib.Path, packing: float) -> None:
+    """Log-log time per frame vs n: solid lines for the methods, dashed for the references."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    figure = Figure(figsize=(8, 5.5), dpi=120)
+    FigureCanvasAgg(figure)
+    axes = figure.add_subplot()
+    labels = {"scipy_ckdtree": "scipy cKDTree build + query_pairs",
+              "pymunk_step": "pymunk Space.step (whole physics step)"}
+    for method in (*METHODS, *REFERENCES):
+        mine = [row for row in rows if row["method"] == method]
+        axes.plot([row["n"] for row in mine], [row["seconds_per_frame"] for row in mine],
+                  linestyle="--" if method in REFERENCES else "-", marker="o", markersize=3,
+                  label=labels.get(method, method))
+    axes.set_xscale("log")
+    axes.set_yscale("log")
+    axes.set_xlabel("particles n")
+    axes.set_ylabel("seconds per frame")
+    axes.set_title(f"Broad phase: time per frame (random gas, packing {packing:g})")
+    axes.grid(True, which="both", alpha=0.3)
+    axes.legend()
+    figure.tight_layout()
+    figure.savefig(path)
+
+
+def fastest_vs_ckdtree(rows: list[dict]) -> dict:
+    """For each n: the fastest method and its time divided by cKDTree's."""
+    result = {}
+    for n in sorted({row["n"] for row in rows}):
+        at_n = [row for row in rows if row["n"] == n]
+        reference = next(row["seconds_per_frame"] for row in at_n if row["method"] == "scipy_ckdtree")
+        best = min((row for row in at_n if row["method"] in METHODS), key=lambda row: row["seconds_per_frame"])
+        result[n] = {"method": best["method"], "ratio": best["seconds_per_frame"] / reference}
+    return result
+
+
+def run(out_dir: pathlib.Path, sizes=(100, 300, 1000, 3000, 10000, 30000, 100000), packing=0.1,
+        repeats=3, seed=0, progress=True) -> dict:
+    """Time every method at every size; write broadphase.csv and broadphase.png.
+
+    Returns {"csv": path, "png": path, "rows": [CSV rows as dicts],
+    "fastest_vs_ckdtree": {n: {"method": name, "ratio": fastest / cKDTree time}}}.
+    """
+    out_dir = pathlib.Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    warm_up()
+    rows = measure(sizes, packing, repeats, seed, progress)
+    csv_path, png_path = out_dir / "broadphase.csv", out_dir / "broadphase.png"
+    write_csv(rows, csv_path)
+    plot(rows, png_path, packing)
+    return {"csv": csv_path, "png": png_path, "rows": rows, "fastest_vs_ckdtree": fastest_vs_ckdtree(rows)}
+
+
+if __name__ == "__main__":
+    import argparse
+
+    parser = argparse.ArgumentParser(description="Benchmark the broad-phase methods.")
+    parser.add_argument("out_dir", type=pathlib.Path)
+    parser.add_argument("--sizes", type=int, nargs="+", default=[100, 300, 1000, 3000, 10000, 30000, 100000])
+    parser.add_argument("--repeats", type=int, default=3)
+    args = parser.parse_args()
+    figures = run(args.out_dir, sizes=args.sizes, repeats=args.repeats)
+    for n, best in figures["fastest_vs_ckdtree"].items():
+        print(f"n={n}: fastest {best['method']}, {best['ratio']:.2f} x cKDTree")

@@ -1,0 +1,190 @@
+"""Bounding volume hierarchy: group the objects, not the space.
+
+A k-d tree cuts *space* and lets an object sit on both sides of a cut. A BVH
+partitions the *objects* instead: every object lives in exactly one leaf.
+Building top-down, a node takes its objects, sorts them by centre along the
+axis where the centres spread widest, and hands the first half to its left
+child and the second half to its right child (a median split of the objects;
+the code finds the median without a full sort, see ``split_in_half``).
+Each node stores the tight box around its objects, so sibling boxes may
+overlap — that is the price of never duplicating an object. A node with at
+most ``leaf_size`` objects is a leaf.
+
+Finding pairs is a traversal of the tree against itself:
+
+* a node against itself: its two children against themselves, and the left
+  child against the right child (a leaf against itself tests its objects
+  pairwise);
+* node A against a different node B: only if their boxes overlap — otherwise
+  nothing below A can touch anything below B and the whole branch is pruned.
+  Two leaves test their objects; else the larger node is opened up.
+
+Each pair of objects is met exactly once, in the unique node where their
+paths from the root part.
+"""
+
+import numpy as np
+from numba import njit
+
+from ._common import (BroadPhase, boxes_overlap, check_boxes, check_int_option,
+                      new_pair_buffer, push_pair, widest_axis)
+
+
+@njit(cache=True)
+def split_in_half(members, keys):
+    """Reorder `members` in place so the count // 2 with the smallest keys come first.
+
+    members: (m,) box indices; keys: (m,) their centres on the split axis.
+    This is "sort by centre and cut the list in half", except that we only
+    need to know which half each box falls in: finding the median
+    (np.partition) takes linear time where sorting takes m log m. Boxes whose
+    centre equals the median fill up the lower half in their current order.
+    """
+    m = members.shape[0]
+    half = m // 2
+    median = np.partition(keys, half)[half]
+    ties_for_lower = half - np.sum(keys < median)
+    reordered = np.empty_like(members)
+    lower, upper = 0, half
+    for k in range(m):
+        if keys[k] < median or (keys[k] == median and ties_for_lower > 0):
+            if keys[k] == median:
+                ties_for_lower -= 1
+            reordered[lower] = members[k]
+            lower += 1
+        else:
+            reordered[upper] = members[k]
+            upper += 1
+    members[:] = reordered
+
+
+@njit(cache=True)
+def fit_box(lo, hi, members, node, node_lo, node_hi):
+    """Set node_lo[node], node_hi[node] to the tight box around boxes `members`."""
+    node_lo[node, 0], node_lo[node, 1] = np.inf, np.inf
+    node_hi[node, 0], node_hi[node, 1] = -np.inf, -np.inf
+    for i in members:
+        for axis in range(2):
+            node_lo[node, axis] = min(node_lo[node, axis], lo[i, axis])
+            node_hi[node, axis] = max(node_hi[node, axis], hi[i, axis])
+
+
+@njit(cache=True)
+def build_bvh(lo, hi, leaf_size):
+    """Build the tree top-down by median object splits.
+
+    lo, hi: (n, 2), n >= 1. Returns, for m <= 2n - 1 nodes numbered depth-first:
+    order (n,): box indices, each node's boxes being one contiguous run of it;
+    node_lo, node_hi (m, 2): the tight box around each node's boxes;
+    node_first, node_count (m,): the node's run is order[first:first + count];
+    node_left (m,): the left child (the right child is left + 1), -1 for a leaf;
+    node_depth (m,).
+    """
+    n = lo.shape[0]
+    order = np.arange(n)
+    capacity = 2 * n - 1  # a binary tree with at most n leaves
+    node_lo = np.empty((capacity, 2))
+    node_hi = np.empty((capacity, 2))
+    node_first = np.zeros(capacity, np.intp)
+    node_count = np.zeros(capacity, np.intp)
+    node_left = np.full(capacity, -1, np.intp)
+    node_depth = np.zeros(capacity, np.intp)
+    node_count[0] = n
+    n_nodes = 1
+    stack = [0]
+    while len(stack) > 0:
+        node = stack.pop()
+        first, count = node_first[node], node_count[node]
+        members = order[first:first + count]
+        fit_box(lo, hi, members, node, node_lo, node_hi)
+        if count <= leaf_size:
+            continue
+        # Split the boxes at their median centre on the axis of widest
+        # spread and give each child one half.
+        axis = widest_axis(lo, hi, members)
+        split_in_half(members, 0.5 * lo[members, axis] + 0.5 * hi[members, axis])
+        half = count // 2
+        left = n_nodes
+        n_nodes += 2
+        node_left[node] = left
+        node_first[left], node_count[left] = first, half
+        node_first[left + 1], node_count[left + 1] = first + half, count - half
+        node_depth[left] = node_depth[left + 1] = node_depth[node] + 1
+        stack.append(left + 1)
+        stack.append(left)
+    return (order, node_lo[:n_nodes], node_hi[:n_nodes], node_first[:n_nodes],
+            node_count[:n_nodes], node_left[:n_nodes], node_depth[:n_nodes])
+
+
+@njit(cache=True)
+def run_pairs(lo, hi, order, first_a, count_a, first_b, count_b, same, pairs, count):
+    """Append overlapping pairs between two runs of `order`; `same` means both
+    runs are one leaf, tested against itself (each pair once)."""
+    for a in range(first_a, first_a + count_a):
+        for b in range(a + 1 if same else first_b, first_b + count_b):
+            i, j = order[a], order[b]
+            if boxes_overlap(lo, hi, i, j):
+                pairs, count = push_pair(pairs, count, i, j)
+    return pairs, count
+
+
+@njit(cache=True)
+def bvh_pairs(lo, hi, order, node_lo, node_hi, node_first, node_count, node_left):
+    """Overlapping pairs by traversing the tree against itself (arrays from build_bvh).
+
+    Returns (k, 2) intp pairs with i < j.
+    """
+    pairs, count = new_pair_buffer(lo.shape[0]), 0
+    stack = [(0, 0)]
+    while len(stack) > 0:
+        a, b = stack.pop()
+        a_left, b_left = node_left[a], node_left[b]
+        if a == b and a_left >= 0:
+            # A node against itself: both children against themselves, and each other.
+            stack.append((a_left, a_left))
+            stack.append((a_left + 1, a_left + 1))
+            stack.append((a_left, a_left + 1))
+        elif a != b and not boxes_overlap(node_lo, node_hi, a, b):
+            continue  # disjoint boxes: nothing below a can touch anything below b
+        elif a_left < 0 and b_left < 0:
+            pairs, count = run_pairs(lo, hi, order, node_first[a], node_count[a],
+                                     node_first[b], node_count[b], a == b, pairs, count)
+        elif b_left < 0 or (a_left >= 0 and node_count[a] >= node_count[b]):
+            stack.append((a_left, b))
+            stack.append((a_left + 1, b))
+        else:
+            stack.append((a, b_left))
+            stack.append((a, b_left + 1))
+    return pairs[:count]
+
+
+class BoundingVolumeHierarchy(BroadPhase):
+    """BVH broad phase, rebuilt every frame."""
+
+    name = "bvh"
+    OPTIONS = ("leaf_size",)
+    EMPTY_STATS = {"nodes": 0, "depth": 0}
+
+    def __init__(self, leaf_size=2):
+        super().__init__()
+        self.leaf_size = check_int_option("leaf_size", leaf_size, 1)
+
+    def _find(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+        order, node_lo, node_hi, first, count, left, depth = build_bvh(lo, hi, self.leaf_size)
+        self.stats.update(nodes=len(node_lo), depth=int(depth.max()))
+        return bvh_pairs(lo, hi, order, node_lo, node_hi, first, count, left)
+
+    def describe(self, lo, hi) -> dict:
+        """Nodes as (node_lo, node_hi, depth, is_leaf) in depth-first order, the
+        leaves' box indices (every box in exactly one leaf), and the pairs."""
+        lo, hi = check_boxes(lo, hi)
+        if len(lo) == 0:
+            return {"nodes": [], "leaves": [], "pairs": self.pairs(lo, hi)}
+        order, node_lo, node_hi, first, count, left, depth = build_bvh(lo, hi, self.leaf_size)
+        is_leaf = left < 0
+        return {
+            "nodes": [(node_lo[k], node_hi[k], int(depth[k]), bool(is_leaf[k]))
+                      for k in range(len(node_lo))],
+            "leaves": [order[first[k]:first[k] + count[k]] for k in np.flatnonzero(is_leaf)],
+            "pairs": self.pairs(lo, hi),
+        }

@@ -1,0 +1,72 @@
+"""Two-body elastic response against the closed form from momentum and energy conservation."""
+import numpy as np
+import pytest
+
+import collisim
+from collisim.response.elastic import resolve_contacts
+
+
+def closed_form(x1, x2, v1, v2, m1, m2):
+    """The video's 2D elastic collision: both new velocities from the pre-collision ones."""
+    d = x1 - x2
+    u1 = v1 - 2 * m2 / (m1 + m2) * np.dot(v1 - v2, d) / np.dot(d, d) * d
+    u2 = v2 - 2 * m1 / (m1 + m2) * np.dot(v2 - v1, -d) / np.dot(d, d) * (-d)
+    return u1, u2
+
+
+def respond(x1, x2, v1, v2, m1, m2, r1=1.0, r2=1.0, e=1.0):
+    positions = np.array([x1, x2], float)
+    velocities = np.array([v1, v2], float)
+    impulse, point = np.empty(1), np.empty((1, 2))
+    hits = resolve_contacts(positions, velocities, np.array([m1, m2], float), np.array([r1, r2], float),
+                            np.array([[0, 1]], np.intp), e, impulse, point)
+    return velocities, hits, impulse[0], positions
+
+
+@pytest.mark.parametrize("ratio", [1.0, 3.0, 1000.0])
+@pytest.mark.parametrize("geometry", ["head-on", "oblique"])
+def test_elastic_pair_matches_the_closed_form(ratio, geometry):
+    m1, m2 = 1.0, ratio
+    x1 = np.array([0.0, 0.0])
+    x2 = np.array([2.0, 0.0]) if geometry == "head-on" else np.array([2.0 * np.cos(0.6), 2.0 * np.sin(0.6)])
+    v1, v2 = np.array([3.0, 0.5]), np.array([-1.0, 0.25])
+    velocities, hits, impulse, _ = respond(x1, x2, v1, v2, m1, m2)
+    u1, u2 = closed_form(x1, x2, v1, v2, m1, m2)
+    assert hits == 1
+    np.testing.assert_allclose(velocities[0], u1, rtol=1e-12, atol=1e-12 * np.abs(u1).max())
+    np.testing.assert_allclose(velocities[1], u2, rtol=1e-12, atol=1e-12 * np.abs(u2).max())
+    p_before, p_after = m1 * v1 + m2 * v2, m1 * velocities[0] + m2 * velocities[1]
+    np.testing.assert_allclose(p_after, p_before, rtol=1e-12, atol=1e-12 * np.abs(p_before).max())
+    ke = lambda a, b: 0.5 * (m1 * a @ a + m2 * b @ b)  # noqa: E731
+    assert ke(*velocities) == pytest.approx(ke(v1, v2), rel=1e-12)
+    assert impulse == pytest.approx(np.linalg.norm(m1 * (velocities[0] - v1)), rel=1e-12)
+
+
+def test_restitution_scales_the_normal_relative_speed():
+    velocities, _, _, _ = respond([0, 0], [2, 0], [2.0, 1.0], [-1.0, 0.0], 1.0, 2.0, e=0.5)
+    assert velocities[1, 0] - velocities[0, 0] == pytest.approx(0.5 * 3.0)
+    assert velocities[0, 1] == 1.0   # tangential components untouched
+
+
+def test_overlapping_but_separating_pair_is_left_alone():
+    velocities, hits, impulse, positions = respond([0, 0], [1.5, 0], [-1.0, 0.0], [1.0, 0.0], 1.0, 1.0)
+    assert hits == 0 and impulse == 0.0
+    np.testing.assert_array_equal(velocities, [[-1.0, 0.0], [1.0, 0.0]])
+    assert positions[1, 0] - positions[0, 0] == pytest.approx(2.0)   # overlap removed
+
+
+def test_overlap_is_removed_along_the_normal_weighted_by_inverse_mass():
+    _, _, _, positions = respond([0, 0], [1.0, 0], [1.0, 0.0], [-1.0, 0.0], 1.0, 3.0)
+    # overlap 1: the light particle moves 3/4 of it, the heavy one 1/4
+    np.testing.assert_allclose(positions, [[-0.75, 0.0], [1.25, 0.0]])
+
+
+def test_engine_conserves_momentum_and_energy_in_an_isolated_collision():
+    world = collisim.World(positions=[[40.0, 50.0], [60.0, 50.6]], velocities=[[6.0, 0.0], [-4.0, 0.0]],
+                           radii=[1.0, 1.7], box=(0, 0, 100, 100))
+    traj = collisim.simulate(collisim.Scene(world=world, fps=60, seconds=3.0, broadphase="brute"))
+    assert traj.pair_hits.sum() == 1 and traj.wall_hits.sum() == 0
+    p = traj.momentum()
+    np.testing.assert_allclose(p, np.broadcast_to(p[0], p.shape), rtol=0, atol=1e-12 * np.abs(p[0]).max())
+    ke = traj.kinetic_energy()
+    np.testing.assert_allclose(ke, np.full_like(ke, ke[0]), rtol=1e-12)
