@@ -73,3 +73,18 @@ def test_render_cli_with_broadphase_substeps_restitution_and_profile(cli, tmp_pa
         assert phase in result.stdout
     bad = cli("render", "particles_250", "--broadphase", "octree", "--out", tmp_path / "x.mp4")
     assert bad.returncode == 2 and "unknown broad phase 'octree'" in bad.stderr
+
+
+def test_bench_broadphase_writes_csv_and_chart_with_reference_lines(cli, tmp_path):
+    import csv
+    result = cli("bench", "broadphase", "--sizes", "50", "400", "--repeats", "1", "--no-progress",
+                 "--out", tmp_path)
+    assert result.returncode == 0, result.stderr
+    rows = list(csv.DictReader(open(tmp_path / "broadphase.csv")))
+    methods = {row["method"] for row in rows}
+    assert set(METHODS) | {"scipy_ckdtree", "pymunk_step"} <= methods
+    for n in ("50", "400"):   # every method finds every touching pair
+        true_pairs = {row["true_pairs"] for row in rows if row["n"] == n and row["method"] in METHODS}
+        assert len(true_pairs) == 1
+    assert (tmp_path / "broadphase.png").stat().st_size > 10_000
+    assert "x cKDTree" in result.stdout

@@ -49,7 +49,26 @@ def build_parser() -> argparse.ArgumentParser:
     render.add_argument("--restitution", type=float, help="coefficient of restitution e in [0, 1]")
     render.add_argument("--profile", action="store_true", help="print time per phase at the end")
     render.add_argument("--no-progress", action="store_true", help="no progress bar")
+    add_bench_parser(commands)
+    compare = commands.add_parser("compare", help="run collisim's methods and pymunk on one scene, one table")
+    compare.add_argument("scene", help="scene name or path")
+    compare.add_argument("--methods", nargs="+", help="labels such as 'discrete x1' 'discrete x8' ccd 'pymunk x1'")
+    compare.add_argument("--seconds", type=float, help="simulated duration")
+    compare.add_argument("--json", action="store_true", help="print JSON instead of a table")
     return parser
+
+
+def add_bench_parser(commands) -> None:
+    bench = commands.add_parser("bench", help="benchmarks: speed as ratios against references in the same run")
+    kinds = bench.add_subparsers(dest="kind", required=True, parser_class=OneLineParser)
+    broad = kinds.add_parser("broadphase", help="time per frame of each broad phase against n, with "
+                                                "scipy cKDTree and pymunk as reference lines")
+    broad.add_argument("--sizes", type=int, nargs="+", default=[100, 300, 1000, 3000, 10000, 30000, 100000])
+    broad.add_argument("--repeats", type=int, default=3)
+    broad.add_argument("--packing", type=float, default=0.1)
+    for parser in (broad,):
+        parser.add_argument("--out", type=Path, default=Path("renders/bench"), help="folder for CSV and PNG")
+        parser.add_argument("--no-progress", action="store_true")
 
 
 def cmd_list(args) -> int:
@@ -93,7 +112,30 @@ def _size_of(path: Path) -> str:
     return f"{width}x{height}"
 
 
-COMMANDS = {"list": cmd_list, "render": cmd_render}
+def cmd_bench(args) -> int:
+    from .render.encoder import check_writable
+    check_writable(args.out)
+    if args.kind == "broadphase":
+        from .bench.broadphase import run
+        if min(args.sizes) < 2 or args.repeats < 1 or not 0 < args.packing < 0.9:
+            raise ValueError("sizes must be >= 2, repeats >= 1 and packing in (0, 0.9)")
+        figures = run(args.out, sizes=args.sizes, packing=args.packing, repeats=args.repeats,
+                      progress=not args.no_progress)
+        for n, best in figures["fastest_vs_ckdtree"].items():
+            print(f"n={n}: fastest {best['method']}, {best['ratio']:.2f} x cKDTree build + query_pairs")
+        print(f"wrote {figures['csv']} and {figures['png']}")
+    return 0
+
+
+def cmd_compare(args) -> int:
+    from .compare import compare, format_table, rows_to_json
+    scene = load_scene(args.scene)
+    rows = compare(scene, methods=args.methods, seconds=args.seconds)
+    print(rows_to_json(rows) if args.json else format_table(rows))
+    return 0
+
+
+COMMANDS = {"list": cmd_list, "render": cmd_render, "bench": cmd_bench, "compare": cmd_compare}
 
 
 def main(argv=None) -> int:

@@ -203,15 +203,3 @@ def run(out_dir: pathlib.Path, sizes=(100, 300, 1000, 3000, 10000, 30000, 100000
     plot(rows, png_path, packing)
     return {"csv": csv_path, "png": png_path, "rows": rows, "fastest_vs_ckdtree": fastest_vs_ckdtree(rows)}
 
-
-if __name__ == "__main__":
-    import argparse
-
-    parser = argparse.ArgumentParser(description="Benchmark the broad-phase methods.")
-    parser.add_argument("out_dir", type=pathlib.Path)
-    parser.add_argument("--sizes", type=int, nargs="+", default=[100, 300, 1000, 3000, 10000, 30000, 100000])
-    parser.add_argument("--repeats", type=int, default=3)
-    args = parser.parse_args()
-    figures = run(args.out_dir, sizes=args.sizes, repeats=args.repeats)
-    for n, best in figures["fastest_vs_ckdtree"].items():
-        print(f"n={n}: fastest {best['method']}, {best['ratio']:.2f} x cKDTree")
