@@ -67,3 +67,14 @@ def test_discrete_pairs_tunnel_in_the_predicted_fraction_of_phases(ratio):
 def test_tunnelling_curve_for_pairs_rises_from_zero_to_almost_all():
     fractions = [pair_lanes(ratio, "discrete")[0] for ratio in (0.5, 40.0)]
     assert fractions[0] == 0.0 and fractions[1] >= 0.95
+
+
+@pytest.mark.parametrize("ratio", RATIOS)
+def test_discrete_barrier_tunnels_in_the_predicted_fraction_of_phases(ratio):
+    assert barrier_lanes(ratio, "discrete") == pytest.approx(expected_fraction(1.0, ratio), abs=TOLERANCE)
+
+
+@pytest.mark.parametrize("ratio", [0.5, 2.0, 8.0, 40.0])
+def test_ccd_never_tunnels(ratio):
+    assert barrier_lanes(ratio, "ccd") == 0.0
+    assert pair_lanes(ratio, "ccd")[0] == 0.0

@@ -48,6 +48,8 @@ class Scene:
 
     A scene made of `panels` shows several simulations side by side in one video; each panel
     keeps its own fps (a 15 fps panel in a 60 fps video holds each frame for 4 video frames).
+    A scene made of `chapters` plays scenes one after another; `seconds` is the whole video
+    (the last chapter's last frame holds if the chapters are shorter).
     """
     world: Optional[World] = None
     fps: float = 60.0
@@ -59,9 +61,11 @@ class Scene:
     description: str = ""
     render: RenderSettings = field(default_factory=RenderSettings)
     panels: tuple = ()
+    chapters: tuple = ()
 
     def __post_init__(self):
         self.panels = tuple(self.panels)
+        self.chapters = tuple(self.chapters)
         self.validate()
 
     @property
@@ -81,8 +85,8 @@ class Scene:
         from .broadphase import METHODS as BROAD_PHASES
         if self.broadphase not in BROAD_PHASES:
             raise ValueError(f"unknown broad phase '{self.broadphase}'; choose one of: {', '.join(BROAD_PHASES)}")
-        if (self.world is None) == (not self.panels):
-            raise ValueError("a scene needs either a world or panels")
+        if sum((self.world is not None, bool(self.panels), bool(self.chapters))) != 1:
+            raise ValueError("a scene needs exactly one of: a world, panels, chapters")
 
     def replace(self, **changes) -> "Scene":
         """A copy with some fields changed (and validated)."""
@@ -97,7 +101,7 @@ class Scene:
             scene = scene.replace(render=dataclasses.replace(scene.render, size=tuple(size)))
         if fps is not None:
             scene = scene.replace(fps=fps)
-        if seconds is not None:
+        if seconds is not None:  # chapters keep their lengths: the video is cut or held
             panels = tuple(Panel(p.scene.replace(seconds=seconds), p.title) for p in scene.panels)
             scene = scene.replace(seconds=seconds, panels=panels)
         physics = {k: v for k, v in dict(method=method, substeps=substeps, broadphase=broadphase).items()

@@ -10,6 +10,8 @@ One step of dt reads as the pipeline (each block is timed into the profile):
     walls         the box
 
 A frame is k substeps of dt/k. With one particle there are no pairs, and no pair phase runs.
+With the grid broad phase and no profile wanted, the same kernels run fused in one compiled
+call per block of frames (fused.py): identical bytes, without the per-phase Python calls.
 """
 from __future__ import annotations
 
@@ -18,82 +20,95 @@ import numpy as np
 from ..narrowphase.circles import touching_pairs
 from ..response.elastic import resolve_contacts
 from ..trajectory import PAIR, SEGMENT, WALL, Events
+from .block import FrameBlock
 from .integrate import integrate
 from .profile import Profile
 from .walls import collide_walls
 
 
 class DiscreteStepper:
-    """Advances a copy of a world frame by frame."""
+    """Advances a copy of a world, a block of frames at a time."""
 
     def __init__(self, world, fps: float, substeps: int = 1, broadphase_method: str = "sweep_prune",
-                 profile: Profile | None = None):
+                 profile: Profile | None = None, fused: bool = True):
         self.world = world
         self.positions = world.positions.copy()
         self.velocities = world.velocities.copy()
         self.dt = 1.0 / fps / substeps
         self.substeps = int(substeps)
         self.profile = profile or Profile()
-        self.time = 0.0
         self.step_count = 0
+        self.warnings = []
         n = world.n
         self.broad = _broad_phase(broadphase_method) if n >= 2 else None
-        self.last_candidates = 0
-        self.warnings = []
+        self.broadphase = broadphase_method if n >= 2 else ""
         self._wall_buffers = (np.empty(4 * n, np.intp), np.empty(4 * n, np.intp),
                               np.empty(4 * n), np.empty((4 * n, 2)))
-        self._segment_stepper = _segment_collider(world)
+        self._segment_collider = _segment_collider(world)
+        self._fused = None
+        if fused and broadphase_method == "grid" and n >= 2 and self._segment_collider is None:
+            from .fused import FusedGrid
+            self._fused = FusedGrid(world, self.dt, self.substeps)
 
-    def frame(self):
-        """Advance one frame; return (wall hits, pair hits, segment hits, list of Events)."""
-        hits = np.zeros(3, np.int64)
-        events = []
-        for _ in range(self.substeps):
-            self.step_count += 1
-            self.time = self.step_count * self.dt
-            self.step(hits, events)
-        return hits, events
+    def run(self, count: int) -> FrameBlock:
+        """Advance `count` frames."""
+        if self._fused is not None:
+            self.profile.start()
+            block = self._fused.run(self.positions, self.velocities, self.step_count, count)
+            self.step_count += count * self.substeps
+            self.profile.lap("step")
+            return block
+        n = self.world.n
+        positions, velocities = np.empty((count, n, 2)), np.empty((count, n, 2))
+        hits, candidates, events = np.zeros((count, 3), np.int64), np.zeros(count, np.int64), []
+        for frame in range(count):
+            for _ in range(self.substeps):
+                candidates[frame] = self.step(hits[frame], events)
+            positions[frame], velocities[frame] = self.positions, self.velocities
+        return FrameBlock(positions, velocities, hits, candidates, Events.concatenate(events))
 
-    def step(self, hits, events) -> None:
+    def step(self, hits, events) -> int:
+        """One step of dt: add its collisions to hits (wall, pair, segment) and its Events to
+        events; return the number of broad-phase candidates."""
         w, profile = self.world, self.profile
+        self.step_count += 1
+        time = self.step_count * self.dt
         profile.start()
         integrate(self.positions, self.velocities, w.accelerations, self.dt)
         profile.lap("integrate")
+        candidates = 0
         if self.broad is not None:
-            hits[1] += self._collide_pairs(events)
-        if self._segment_stepper is not None:
-            hits[2] += self._segment_stepper(self, events)
+            candidates = self._collide_pairs(hits, events, time)
+        if self._segment_collider is not None:
+            hits[2] += self._segment_collider(self.positions, self.velocities, events, time)
             profile.lap("barriers")
         count, wall_hits = collide_walls(self.positions, self.velocities, w.accelerations, w.radii, w.masses, w.box,
                                          w.restitution, *self._wall_buffers)
         if count:
             particle, wall, impulse, point = (b[:count].copy() for b in self._wall_buffers)
-            events.append(Events(np.full(count, self.time), np.full(count, WALL, np.int8),
-                                 particle, wall, impulse, point))
+            events.append(Events(np.full(count, time), np.full(count, WALL, np.int8), particle, wall, impulse, point))
         hits[0] += wall_hits
         profile.lap("walls")
+        return candidates
 
-    def _collide_pairs(self, events) -> int:
+    def _collide_pairs(self, hits, events, time) -> int:
         w, profile = self.world, self.profile
         reach = w.radii[:, None]
         candidates = self.broad.pairs(self.positions - reach, self.positions + reach)
-        self.last_candidates = len(candidates)
         profile.lap("broad")
         contacts = touching_pairs(self.positions, w.radii, candidates)
         profile.lap("narrow")
-        if len(contacts) == 0:
-            profile.lap("response")
-            return 0
         impulse = np.empty(len(contacts))
         point = np.empty((len(contacts), 2))
         collisions = resolve_contacts(self.positions, self.velocities, w.masses, w.radii, contacts,
                                       w.restitution, impulse, point)
-        hit = impulse > 0
         if collisions:
-            events.append(Events(np.full(collisions, self.time), np.full(collisions, PAIR, np.int8),
+            hit = impulse > 0
+            events.append(Events(np.full(collisions, time), np.full(collisions, PAIR, np.int8),
                                  contacts[hit, 0].copy(), contacts[hit, 1].copy(), impulse[hit], point[hit]))
+        hits[1] += collisions
         profile.lap("response")
-        return collisions
+        return len(candidates)
 
 
 def _broad_phase(method: str):
@@ -106,15 +121,13 @@ def _segment_collider(world):
     """The thin-barrier phase, or None when the world has no barriers."""
     if len(world.segments) == 0:
         return None
-    from ..narrowphase.segments import collide_segments_events
+    from ..narrowphase.segments import collide_segments
 
-    def collide(stepper, events) -> int:
-        found = collide_segments_events(stepper.positions, stepper.velocities, world.radii, world.masses,
-                                        world.segments, world.restitution)
-        if found is None:
-            return 0
-        particle, segment, impulse, point = found
-        events.append(Events(np.full(len(particle), stepper.time), np.full(len(particle), SEGMENT, np.int8),
-                             particle, segment, impulse, point))
+    def collide(positions, velocities, events, time) -> int:
+        particle, segment, impulse, point = collide_segments(positions, velocities, world.radii, world.masses,
+                                                             world.segments, world.restitution)
+        if len(particle):
+            events.append(Events(np.full(len(particle), time), np.full(len(particle), SEGMENT, np.int8),
+                                 particle, segment, impulse, point))
         return len(particle)
     return collide

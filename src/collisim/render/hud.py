@@ -14,10 +14,13 @@ def method_label(scene) -> str:
     return label
 
 
-def hud_lines(scene, state) -> list:
-    """The panel's own clock: its sample index counts frames at the panel's fps."""
-    lines = [f"t = {state.time:6.3f} s   frame {state.sample}/{scene.frames} at {scene.fps:g} fps",
-             method_label(scene)]
+def hud_lines(scene, state, compact: bool = False) -> list:
+    """The panel's own clock: its sample index counts frames at the panel's fps. A compact HUD
+    (narrow panels) keeps the clock and the collision count."""
+    clock = f"t = {state.time:6.3f} s   frame {state.sample}/{scene.frames} at {scene.fps:g} fps"
+    if compact:
+        return [f"t = {state.time:5.2f} s  frame {state.sample}", f"collisions: {state.total_collisions}"]
+    lines = [clock, method_label(scene)]
     if scene.world.n >= 2:
         lines.append(f"pairs: {state.candidates} candidates, {state.pair_hits} hits")
     lines.append(f"collisions: {state.total_collisions}")

@@ -28,7 +28,7 @@ from .view import View
 MIN_SIZE = 64
 TITLE_HEIGHT = 36
 HUD_HEIGHT = 26
-FLASH_SECONDS = 0.15
+FLASH_SECONDS = 0.12
 
 
 @dataclass
@@ -46,7 +46,7 @@ class FrameState:
 class PanelPlayer:
     """Plays one simulation into a rectangle of the canvas."""
 
-    def __init__(self, scene: Scene, rect: tuple, title: str, video_fps: float):
+    def __init__(self, scene: Scene, rect: tuple, title: str, video_fps: float, phases: bool = False):
         self.scene, self.title, self.video_fps = scene, title, video_fps
         self.rect = rect
         left, top, width, height = rect
@@ -56,7 +56,7 @@ class PanelPlayer:
         self.view = View(scene.world.box, (left, top + title_height, width, height - title_height - hud_height))
         self.colors = scene.world.colors
         self.text_scale = max(0.38, min(0.55, width / 1280 * 0.8))
-        self._blocks = stream(scene)
+        self._blocks = stream(scene, phases=phases)
         self._block = next(self._blocks)
         self._first = 0
         self._sample = -1
@@ -110,7 +110,7 @@ class PanelPlayer:
         if settings.overlay is not None:
             settings.overlay(canvas, self.view, state)
         if settings.hud:
-            draw_hud(canvas, self.content, hud_lines(self.scene, state),
+            draw_hud(canvas, self.content, hud_lines(self.scene, state, compact=self.rect[2] < 800),
                      self.text_scale)
 
     def _draw_flashes(self, canvas, now: float) -> None:
@@ -119,8 +119,8 @@ class PanelPlayer:
             if not fresh.any():
                 continue
             age = (now - events.time[fresh]) / FLASH_SECONDS
-            radii = self.view.length(self.scene.world.radii[events.i[fresh]]) * (0.4 + 0.8 * age)
-            raster.draw_rings(canvas, self.view.to_pixels(events.point[fresh]), radii, palette.FLASH, 2)
+            radii = self.view.length(self.scene.world.radii[events.i[fresh]]) * (0.3 + 0.5 * age)
+            raster.draw_rings(canvas, self.view.to_pixels(events.point[fresh]), radii, palette.FLASH, 1)
 
 
 def panel_rects(count: int, size: tuple, layout=None) -> list:
@@ -168,10 +168,10 @@ def render(scene: Scene, path, size=None, *, codec: str = "h264", quality: str =
     check_writable(path.parent)
     if png_frame is None:
         check_codec(codec)
-    players = make_players(scene, size)
     canvas = np.empty((size[1], size[0], 3), np.uint8)
+    timeline = Timeline(scene, size, phases=profile is not None)
     if png_frame is not None:
-        draw_frame(canvas, players, png_frame, scene.frames, advance_to=png_frame)
+        timeline.draw(canvas, png_frame, walk=True)
         write_png(path, canvas)
         return path
     bar = _progress_bar(scene.frames, path.name) if progress else None
@@ -179,7 +179,7 @@ def render(scene: Scene, path, size=None, *, codec: str = "h264", quality: str =
     with VideoWriter(path, scene.fps, size, codec, quality) as video:
         for frame in range(scene.frames):
             start = time.perf_counter()
-            draw_frame(canvas, players, frame, scene.frames)
+            timeline.draw(canvas, frame)
             middle = time.perf_counter()
             video.write(canvas)
             draw_seconds += middle - start
@@ -189,19 +189,44 @@ def render(scene: Scene, path, size=None, *, codec: str = "h264", quality: str =
     if bar is not None:
         bar.close()
     if profile is not None:
-        for player in players:
-            for phase, seconds in player.profile.items():
-                profile[phase] = profile.get(phase, 0.0) + seconds
+        for phase, seconds in timeline.profile().items():
+            profile[phase] = profile.get(phase, 0.0) + seconds
         simulated = sum(profile.values())
         profile["draw"] = draw_seconds - simulated  # drawing includes pulling frames from the engine
         profile["encode"] = encode_seconds
     return path
 
 
-def make_players(scene: Scene, size: tuple) -> list:
+class Timeline:
+    """Which chapter, and which of its frames, each video frame shows."""
+
+    def __init__(self, scene: Scene, size: tuple, phases: bool = False):
+        self.size, self.phases = size, phases
+        self.chapters = scene.chapters or (scene,)
+        self.starts = np.cumsum([0] + [c.frames for c in self.chapters])
+        self._index, self._players, self._finished = -1, [], []
+
+    def draw(self, canvas, frame: int, walk: bool = False) -> None:
+        index = min(int(np.searchsorted(self.starts, frame, side="right")) - 1, len(self.chapters) - 1)
+        chapter = self.chapters[index]
+        if index != self._index:
+            self._finished.extend(self._players)
+            self._index, self._players = index, make_players(chapter, self.size, self.phases)
+        local = min(frame - int(self.starts[index]), chapter.frames - 1)
+        draw_frame(canvas, self._players, local, chapter.frames, advance_to=local if walk else None)
+
+    def profile(self) -> dict:
+        total = {}
+        for player in self._finished + self._players:
+            for phase, seconds in player.profile.items():
+                total[phase] = total.get(phase, 0.0) + seconds
+        return total
+
+
+def make_players(scene: Scene, size: tuple, phases: bool = False) -> list:
     panels = scene.panels or (Panel(scene, ""),)
     rects = panel_rects(len(panels), size, scene.render.layout)
-    return [PanelPlayer(p.scene, rect, p.title, scene.fps) for p, rect in zip(panels, rects)]
+    return [PanelPlayer(p.scene, rect, p.title, scene.fps, phases) for p, rect in zip(panels, rects)]
 
 
 def draw_frame(canvas, players: list, frame: int, frames: int, advance_to: int | None = None) -> None:

@@ -1,0 +1,105 @@
+"""The safety net for frames that need too many events.
+
+Some situations make an exact event-driven simulation process infinitely many
+events in a finite time (Zeno behaviour): a pile of inelastic balls at rest
+under gravity keeps colliding with ever smaller speeds (inelastic collapse), a
+ball on a tilted ramp's corner tries to roll around it. Walls and segment
+interiors handle resting on their own (bodies.py); everything else is caught
+by the per-frame event budget.
+
+When a frame exceeds its budget, it is finished with one discrete step: every
+particle moves in free flight to the frame time, then a few projection passes
+push overlapping pairs apart (mass weighted) and out of segments, remove the
+approaching part of their normal velocity (as if they came to rest on their
+contact), and clamp everything into the box, box last so that nothing is ever
+outside it. The event-driven simulation then starts afresh from that state.
+Supports are released: resting contacts are found again by the next events.
+"""
+import math
+
+from numba import njit
+
+from .bodies import advance, release
+from .geometry import closest_on_segment, contact_normal
+from .grid import assign_all, neighbour_cells
+
+PROJECTION_PASSES = 4
+
+
+@njit(cache=True)
+def _separate(bodies, i, j):
+    """Push an overlapping pair apart to contact, and stop them approaching."""
+    dx, dy = bodies.pos[j, 0] - bodies.pos[i, 0], bodies.pos[j, 1] - bodies.pos[i, 1]
+    distance = math.hypot(dx, dy)
+    overlap = bodies.radius[i] + bodies.radius[j] - distance
+    if overlap <= 0.0:
+        return
+    nx, ny = (dx / distance, dy / distance) if distance > 0.0 else (1.0, 0.0)
+    mi, mj = bodies.mass[i], bodies.mass[j]
+    share_i, share_j = mj / (mi + mj), mi / (mi + mj)
+    bodies.pos[i, 0] -= share_i * overlap * nx
+    bodies.pos[i, 1] -= share_i * overlap * ny
+    bodies.pos[j, 0] += share_j * overlap * nx
+    bodies.pos[j, 1] += share_j * overlap * ny
+    approach = (bodies.vel[i, 0] - bodies.vel[j, 0]) * nx + (bodies.vel[i, 1] - bodies.vel[j, 1]) * ny
+    if approach > 0.0:
+        bodies.vel[i, 0] -= share_i * approach * nx
+        bodies.vel[i, 1] -= share_i * approach * ny
+        bodies.vel[j, 0] += share_j * approach * nx
+        bodies.vel[j, 1] += share_j * approach * ny
+
+
+@njit(cache=True)
+def _separate_pairs(bodies, grid):
+    for i in range(bodies.radius.shape[0]):
+        for c in neighbour_cells(grid, grid.cell[i]):
+            j = grid.head[c]
+            while j >= 0:
+                if j > i:
+                    _separate(bodies, i, j)
+                j = grid.next[j]
+
+
+@njit(cache=True)
+def _push_out_of_segments(bodies, grid, scene):
+    for i in range(bodies.radius.shape[0]):
+        c = grid.cell[i]
+        for k in range(grid.segment_start[c], grid.segment_start[c + 1]):
+            x0, y0, x1, y1 = scene.segments[grid.segment_index[k]]
+            px, py = bodies.pos[i, 0], bodies.pos[i, 1]
+            qx, qy, _ = closest_on_segment(px, py, x0, y0, x1, y1)
+            nx, ny, distance = contact_normal(px, py, qx, qy, x0, y0, x1, y1)
+            if distance < bodies.radius[i]:
+                bodies.pos[i, 0], bodies.pos[i, 1] = qx + bodies.radius[i] * nx, qy + bodies.radius[i] * ny
+                vn = bodies.vel[i, 0] * nx + bodies.vel[i, 1] * ny
+                if vn < 0.0:
+                    bodies.vel[i, 0] -= vn * nx
+                    bodies.vel[i, 1] -= vn * ny
+
+
+@njit(cache=True)
+def _keep_inside_box(bodies, scene):
+    for i in range(bodies.radius.shape[0]):
+        for axis in range(2):
+            lo, hi = scene.box[axis] + bodies.radius[i], scene.box[2 + axis] - bodies.radius[i]
+            if bodies.pos[i, axis] <= lo:
+                bodies.pos[i, axis] = lo
+                bodies.vel[i, axis] = max(bodies.vel[i, axis], 0.0)
+            elif bodies.pos[i, axis] >= hi:
+                bodies.pos[i, axis] = hi
+                bodies.vel[i, axis] = min(bodies.vel[i, axis], 0.0)
+
+
+@njit(cache=True)
+def finish_frame_discretely(bodies, grid, scene, t):
+    """Bring every particle to time t in free flight, then project the state back
+    to a valid one (see the module docstring). Cell lists are left up to date."""
+    for i in range(bodies.radius.shape[0]):
+        advance(bodies, i, t)
+        release(bodies, scene, i)
+    for _ in range(PROJECTION_PASSES):
+        assign_all(grid, bodies.pos)
+        _separate_pairs(bodies, grid)
+        _push_out_of_segments(bodies, grid, scene)
+        _keep_inside_box(bodies, scene)
+    assign_all(grid, bodies.pos)

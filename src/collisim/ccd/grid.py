@@ -1,0 +1,154 @@
+"""The broad phase of the event-driven simulation: a uniform grid of cells.
+
+The box is cut into nx × ny cells at least one particle diameter wide (plus a
+safety margin), and every particle belongs to the cell holding its centre. Two
+particles can then only touch if their cells are neighbours (3 × 3 block), so a
+particle predicts collisions only with the particles of its block.
+
+Crossing into another cell is itself an event (a 1D time to the cell's side),
+processed like a collision without a velocity change: the particle moves to its
+new cell and predicts again with its new neighbours. Nothing is ever missed, at
+any speed: a fast particle simply has many crossing events.
+
+Segments are registered once, in every cell they come within one maximum
+radius of, so a particle tests only the segments listed in its own cell.
+
+Cell membership is a doubly linked list per cell (head, next, prev), so moving
+a particle is O(1).
+"""
+from collections import namedtuple
+
+import numpy as np
+from numba import njit
+
+CellGrid = namedtuple("CellGrid", ["x0", "y0", "cell_w", "cell_h", "nx", "ny", "cell", "head", "next", "prev",
+                                   "segment_start", "segment_index"])
+CellGrid.__doc__ = """x0, y0: the box's lower left corner; cell_w, cell_h: cell size; nx, ny: cells per axis.
+cell (n,): each particle's cell (cy * nx + cx); head (nx*ny,), next (n,), prev (n,): linked lists (-1 = none).
+segment_start (nx*ny + 1,), segment_index (k,): the segments near cell c are
+segment_index[segment_start[c]:segment_start[c + 1]]."""
+
+# Cells are made this much wider than a diameter, so that a centre which is a few
+# rounding errors outside its cell still only touches its 3 × 3 block.
+CELL_MARGIN = 1e-6
+
+
+def make_grid(box, radii, segments):
+    """A grid for particles of these radii in box (xmin, ymin, xmax, ymax).
+
+    Cells are about as large as one particle's share of the area (so about one
+    particle per cell), but never narrower than the largest diameter.
+    """
+    n = len(radii)
+    width, height = box[2] - box[0], box[3] - box[1]
+    smallest = 2.0 * radii.max() * (1.0 + CELL_MARGIN) if n else 0.0
+    side = max(smallest, np.sqrt(width * height / max(n, 1)))
+    nx, ny = max(1, int(width // side)), max(1, int(height // side))
+    grid = CellGrid(float(box[0]), float(box[1]), width / nx, height / ny, nx, ny,
+                    np.full(n, -1, np.int64), np.full(nx * ny, -1, np.int64), np.full(n, -1, np.int64),
+                    np.full(n, -1, np.int64), np.zeros(nx * ny + 1, np.int64), np.zeros(0, np.int64))
+    start, index = _register_segments(grid, segments, radii.max() * (1.0 + CELL_MARGIN) if n else 0.0)
+    return grid._replace(segment_start=start, segment_index=index)
+
+
+@njit(cache=True)
+def _clip_fraction(denominator, numerator, lo, hi):
+    """One Liang–Barsky step: narrow the parameter range [lo, hi] of a segment by
+    the half-plane denominator * u <= numerator. Returns (lo, hi), empty if lo > hi."""
+    if denominator == 0.0:
+        return (lo, hi) if numerator >= 0.0 else (1.0, 0.0)
+    u = numerator / denominator
+    if denominator < 0.0:
+        return max(lo, u), hi
+    return lo, min(hi, u)
+
+
+@njit(cache=True)
+def _segment_meets_rect(x0, y0, x1, y1, left, bottom, right, top):
+    """Does the segment (x0, y0)-(x1, y1) intersect the rectangle? (Liang–Barsky)"""
+    dx, dy = x1 - x0, y1 - y0
+    lo, hi = _clip_fraction(-dx, x0 - left, 0.0, 1.0)
+    lo, hi = _clip_fraction(dx, right - x0, lo, hi)
+    lo, hi = _clip_fraction(-dy, y0 - bottom, lo, hi)
+    lo, hi = _clip_fraction(dy, top - y0, lo, hi)
+    return lo <= hi
+
+
+@njit(cache=True)
+def _register_segments(grid, segments, reach):
+    """CSR lists (start, index) of the segments within `reach` of each cell."""
+    cells = grid.nx * grid.ny
+    hits = np.zeros((cells, segments.shape[0]), np.bool_)
+    for c in range(cells):
+        left, bottom, right, top = cell_bounds(grid, c)
+        for s in range(segments.shape[0]):
+            hits[c, s] = _segment_meets_rect(segments[s, 0], segments[s, 1], segments[s, 2], segments[s, 3],
+                                             left - reach, bottom - reach, right + reach, top + reach)
+    start = np.zeros(cells + 1, np.int64)
+    for c in range(cells):
+        start[c + 1] = start[c] + hits[c].sum()
+    index = np.empty(start[-1], np.int64)
+    for c in range(cells):
+        index[start[c]:start[c + 1]] = np.nonzero(hits[c])[0]
+    return start, index
+
+
+@njit(cache=True)
+def cell_bounds(grid, c):
+    """(left, bottom, right, top) of cell c."""
+    cx, cy = c % grid.nx, c // grid.nx
+    left, bottom = grid.x0 + cx * grid.cell_w, grid.y0 + cy * grid.cell_h
+    return left, bottom, left + grid.cell_w, bottom + grid.cell_h
+
+
+@njit(cache=True)
+def cell_at(grid, x, y):
+    """The cell holding point (x, y); points outside the box go to the nearest cell."""
+    cx = min(max(int((x - grid.x0) // grid.cell_w), 0), grid.nx - 1)
+    cy = min(max(int((y - grid.y0) // grid.cell_h), 0), grid.ny - 1)
+    return cy * grid.nx + cx
+
+
+@njit(cache=True)
+def link(grid, i, c):
+    """Put particle i (in no list) at the front of cell c's list."""
+    first = grid.head[c]
+    grid.next[i], grid.prev[i] = first, -1
+    if first >= 0:
+        grid.prev[first] = i
+    grid.head[c] = i
+    grid.cell[i] = c
+
+
+@njit(cache=True)
+def unlink(grid, i):
+    """Take particle i out of its cell's list."""
+    before, after = grid.prev[i], grid.next[i]
+    if before >= 0:
+        grid.next[before] = after
+    else:
+        grid.head[grid.cell[i]] = after
+    if after >= 0:
+        grid.prev[after] = before
+    grid.cell[i] = -1
+
+
+@njit(cache=True)
+def assign_all(grid, positions):
+    """Rebuild every cell list from positions (n, 2), particles in index order."""
+    grid.head[:] = -1
+    for i in range(positions.shape[0] - 1, -1, -1):
+        link(grid, i, cell_at(grid, positions[i, 0], positions[i, 1]))
+
+
+@njit(cache=True)
+def neighbour_cells(grid, c):
+    """The cells of the 3 × 3 block around cell c (fewer at the box edges), as an array."""
+    cx, cy = c % grid.nx, c // grid.nx
+    out = np.empty(9, np.int64)
+    count = 0
+    for ny in range(max(cy - 1, 0), min(cy + 2, grid.ny)):
+        for nx in range(max(cx - 1, 0), min(cx + 2, grid.nx)):
+            out[count] = ny * grid.nx + nx
+            count += 1
+    return out[:count]

@@ -1,0 +1,155 @@
+"""Collision response: the impulses of the contacts that happen at one instant.
+
+A contact k is between particle i and either particle j or an infinitely heavy
+obstacle (a box wall, a segment). n_k is the unit normal from i towards the
+other body and u_k = (v_i - v_j)·n_k the speed at which they approach. An
+impulse P_k >= 0 along n_k changes v_i by -P_k/m_i n_k and v_j by +P_k/m_j n_k.
+
+Newton's law of restitution asks the approach speed after the collision to be
+-e times the approach speed before. For one contact this gives the textbook
+formula P = (1 + e) m_i m_j / (m_i + m_j) u (m_j = inf for an obstacle: the
+normal velocity is reflected, v_n -> -e v_n); it conserves momentum for any e
+and kinetic energy for e = 1.
+
+Several contacts can happen at exactly the same time (symmetric set-ups: a ball
+hit from two mirrored sides, a billiard break). Solving them one after the
+other would favour whichever comes first; instead all contacts of one instant
+are solved together, by projected Gauss-Seidel: sweep over the contacts,
+correcting each impulse to meet its restitution target given the others, never
+letting an impulse become negative (contacts push, they never pull), until the
+corrections vanish. The result does not depend on the order of the sweep (the
+solution is unique), so mirror-symmetric collisions stay mirror symmetric. With
+e = 1 the converged impulses do no net work: energy is conserved. A single
+contact is exact after the first sweep.
+"""
+import math
+from collections import namedtuple
+
+import numpy as np
+from numba import njit
+
+from .bodies import N_WALLS, comes_to_rest, rest_on, wall_geometry
+from .eventqueue import PAIR, SEGMENT, WALL
+from .geometry import closest_on_segment, contact_normal
+
+Contacts = namedtuple("Contacts", ["kind", "i", "j", "other", "nx", "ny", "approach", "impulse", "x", "y",
+                                   "can_rest", "count"])
+Contacts.__doc__ = """Up to c contacts of one instant, each (c,) array: kind (WALL, PAIR, SEGMENT); i the
+particle; j the other particle or -1; other the event's other index (wall, particle or segment);
+nx, ny the normal from i towards the other body; approach the approach speed before; impulse;
+x, y the contact point; can_rest: may i come to rest on this obstacle. count (1,) int64."""
+
+# Gauss-Seidel sweeps stop when no impulse changes any velocity by more than this
+# fraction of the fastest approach speed (or after MAX_SWEEPS).
+SWEEP_TOLERANCE = 1e-15
+MAX_SWEEPS = 10_000
+
+
+@njit(cache=True)
+def new_contacts(capacity):
+    """Room for `capacity` simultaneous contacts."""
+    return Contacts(np.empty(capacity, np.int64), np.empty(capacity, np.int64), np.empty(capacity, np.int64),
+                    np.empty(capacity, np.int64), np.empty(capacity), np.empty(capacity), np.empty(capacity),
+                    np.empty(capacity), np.empty(capacity), np.empty(capacity), np.empty(capacity, np.bool_),
+                    np.zeros(1, np.int64))
+
+
+@njit(cache=True)
+def _add(bodies, contacts, kind, i, j, other, nx, ny, x, y, can_rest):
+    k = contacts.count[0]
+    vx, vy = bodies.vel[i, 0], bodies.vel[i, 1]
+    if j >= 0:
+        vx, vy = vx - bodies.vel[j, 0], vy - bodies.vel[j, 1]
+    contacts.kind[k], contacts.i[k], contacts.j[k], contacts.other[k] = kind, i, j, other
+    contacts.nx[k], contacts.ny[k], contacts.x[k], contacts.y[k] = nx, ny, x, y
+    contacts.approach[k] = max(vx * nx + vy * ny, 0.0)
+    contacts.impulse[k] = 0.0
+    contacts.can_rest[k] = can_rest
+    contacts.count[0] = k + 1
+
+
+@njit(cache=True)
+def add_wall_contact(bodies, scene, contacts, i, wall):
+    """Particle i (current) touches box wall `wall`; it is put exactly on the wall."""
+    radius = bodies.radius[i]
+    axis, bound, inward = wall_geometry(scene.box, wall, radius)
+    bodies.pos[i, axis] = bound
+    nx, ny = (-inward, 0.0) if axis == 0 else (0.0, -inward)
+    _add(bodies, contacts, WALL, i, -1, wall, nx, ny, bodies.pos[i, 0] + radius * nx, bodies.pos[i, 1] + radius * ny,
+         True)
+
+
+@njit(cache=True)
+def add_segment_contact(bodies, scene, contacts, i, s):
+    """Particle i (current) touches segment s; it is put exactly at contact distance."""
+    x0, y0, x1, y1 = scene.segments[s]
+    px, py = bodies.pos[i, 0], bodies.pos[i, 1]
+    qx, qy, u = closest_on_segment(px, py, x0, y0, x1, y1)
+    nx, ny, _ = contact_normal(px, py, qx, qy, x0, y0, x1, y1)
+    bodies.pos[i, 0], bodies.pos[i, 1] = qx + bodies.radius[i] * nx, qy + bodies.radius[i] * ny
+    # Only the interior can carry a resting particle: on an end cap it would roll off.
+    _add(bodies, contacts, SEGMENT, i, -1, s, -nx, -ny, qx, qy, 0.0 < u < 1.0)
+
+
+@njit(cache=True)
+def add_pair_contact(bodies, contacts, i, j):
+    """Particles i and j (current) touch."""
+    dx, dy = bodies.pos[j, 0] - bodies.pos[i, 0], bodies.pos[j, 1] - bodies.pos[i, 1]
+    distance = math.hypot(dx, dy)
+    nx, ny = (dx / distance, dy / distance) if distance > 0.0 else (1.0, 0.0)
+    radius = bodies.radius[i]
+    _add(bodies, contacts, PAIR, i, j, j, nx, ny, bodies.pos[i, 0] + radius * nx, bodies.pos[i, 1] + radius * ny,
+         False)
+
+
+@njit(cache=True)
+def _apply(bodies, contacts, k, change):
+    """Add `change` to contact k's impulse, updating the velocities."""
+    i, j = contacts.i[k], contacts.j[k]
+    nx, ny = contacts.nx[k], contacts.ny[k]
+    bodies.vel[i, 0] -= change / bodies.mass[i] * nx
+    bodies.vel[i, 1] -= change / bodies.mass[i] * ny
+    if j >= 0:
+        bodies.vel[j, 0] += change / bodies.mass[j] * nx
+        bodies.vel[j, 1] += change / bodies.mass[j] * ny
+    contacts.impulse[k] += change
+
+
+@njit(cache=True)
+def solve_contacts(bodies, restitution, contacts):
+    """Impulses for all contacts at once (projected Gauss-Seidel, see module docstring)."""
+    count = contacts.count[0]
+    scale = 0.0
+    for k in range(count):
+        scale = max(scale, contacts.approach[k])
+    for _ in range(MAX_SWEEPS):
+        largest = 0.0
+        for k in range(count):
+            i, j = contacts.i[k], contacts.j[k]
+            vx, vy = bodies.vel[i, 0], bodies.vel[i, 1]
+            inverse_mass = 1.0 / bodies.mass[i]
+            if j >= 0:
+                vx, vy = vx - bodies.vel[j, 0], vy - bodies.vel[j, 1]
+                inverse_mass += 1.0 / bodies.mass[j]
+            approach = vx * contacts.nx[k] + vy * contacts.ny[k]
+            target = -restitution * contacts.approach[k]
+            change = max(contacts.impulse[k] + (approach - target) / inverse_mass, 0.0) - contacts.impulse[k]
+            _apply(bodies, contacts, k, change)
+            largest = max(largest, abs(change) * inverse_mass)
+        if largest <= SWEEP_TOLERANCE * scale:
+            return
+
+
+@njit(cache=True)
+def settle_resting(bodies, scene, contacts):
+    """Particles that leave a wall or segment too slowly to matter rest on it instead."""
+    for k in range(contacts.count[0]):
+        if not contacts.can_rest[k]:
+            continue
+        i = contacts.i[k]
+        nx, ny = -contacts.nx[k], -contacts.ny[k]  # from the obstacle towards the particle
+        rebound = bodies.vel[i, 0] * nx + bodies.vel[i, 1] * ny
+        if comes_to_rest(scene, bodies.radius[i], rebound, nx, ny):
+            support = contacts.other[k] if contacts.kind[k] == WALL else N_WALLS + contacts.other[k]
+            rest_on(bodies, scene, i, support, nx, ny)
+            contacts.impulse[k] += bodies.mass[i] * max(rebound, 0.0)
