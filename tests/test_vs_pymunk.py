@@ -341,3 +341,15 @@ def test_compare_accepts_a_comma_separated_string_and_checks_its_input():
     for bad in (dict(seconds=-1.0), dict(horizon=float("nan")), dict(methods=[])):
         with pytest.raises(ValueError):
             compare(scene, **bad)
+
+
+def test_compare_cli_prints_a_table_for_a_scene_of_chapters_and_panels(cli):
+    result = cli("compare", "tunneling", "--seconds", "1", "--methods", "discrete x1", "ccd")
+    assert result.returncode == 0, result.stderr
+    lines = result.stdout.splitlines()
+    assert any(line.startswith("4 particles, 1 barrier: ccd") for line in lines)
+    assert any(line.startswith("6 particles: discrete x1") for line in lines)
+    json_result = cli("compare", "two_bodies", "--seconds", "1", "--json")
+    import json
+    rows = json.loads(json_result.stdout)
+    assert {row["method"] for row in rows} == {"discrete x1", "discrete x8", "ccd", "pymunk x1"}

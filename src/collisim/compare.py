@@ -109,14 +109,33 @@ def compare(scene, methods=None, seconds=None, horizon: float = 0.25) -> list:
         raise ValueError(f"horizon must be a finite number of seconds >= 0, got {horizon}")
     if seconds is not None:
         scene = scene.with_options(seconds=seconds)
-    if scene.panels:
-        worlds = [(panel.title or f"panel {k + 1}", panel.scene) for k, panel in enumerate(scene.panels)]
-    else:
-        worlds = [("", scene)]
+    worlds = distinct_worlds(scene)
     rows = []
     for title, single in worlds:
         rows.extend(_compare_world(title, single, methods, horizon))
     return rows
+
+
+def distinct_worlds(scene) -> list:
+    """(title, single-world scene) for each distinct world of a scene. A scene of panels or
+    chapters may show one world under several methods; compare runs each world once under all
+    methods, titled by what it holds ("4 particles, 1 barrier")."""
+    if scene.world is not None:
+        return [("", scene)]
+    found = {}
+    for part in scene.panels or scene.chapters:
+        for _, single in distinct_worlds(getattr(part, "scene", part)):
+            w = single.world
+            key = b"".join(a.tobytes() for a in (w.positions, w.velocities, w.radii, w.masses, w.segments, w.box))
+            found.setdefault(key, single)
+    return [(_describe_world(single.world), single) for single in found.values()]
+
+
+def _describe_world(world) -> str:
+    text = f"{world.n} particle{'s' * (world.n != 1)}"
+    if len(world.segments):
+        text += f", {len(world.segments)} barrier{'s' * (len(world.segments) != 1)}"
+    return text
 
 
 def _compare_world(title: str, scene, methods: list, horizon: float) -> list:
