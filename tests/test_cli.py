@@ -159,3 +159,15 @@ def test_render_api_returns_the_path_and_matches_simulate(tmp_path):
     assert path == tmp_path / "x.mp4" and decode_video(path)[:3] == (30, 160, 90)
     traj = collisim.simulate(scene)
     assert traj.positions.shape == (31, 1, 2) and np.all(np.isfinite(traj.positions))
+
+
+def test_bench_render_reports_the_split_and_the_encode_only_floor(cli, tmp_path):
+    import json
+    result = cli("bench", "render", "--seconds", "1", "--no-memory", "--no-progress", "--out", tmp_path)
+    assert result.returncode == 0, result.stderr
+    figures = json.loads((tmp_path / "render.json").read_text())
+    assert figures["frames"] == 60 and figures["size"] == [1280, 720]
+    assert set(figures["split"]) == {"simulate", "draw", "encode"}
+    assert figures["render_over_encode_only"] == pytest.approx(figures["render_seconds"] / figures["encode_only_seconds"])
+    assert "render / encode-only" in result.stdout
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["render.json"]   # scratch videos removed

@@ -35,7 +35,7 @@ def test_circle_centroids_land_within_half_a_pixel_of_the_transform():
                            render=collisim.RenderSettings(hud=False, flash=False))
     size = (800, 450)
     players = make_players(scene, size)
-    canvas = np.empty((size[1], size[0], 3), np.uint8)
+    canvas = np.zeros((size[1], size[0], 3), np.uint8)
     draw_frame(canvas, players, 0, scene.frames)
     expected = players[0].view.to_pixels(world.positions)
     measured = blob_centroids(canvas, colors)

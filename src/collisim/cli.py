@@ -66,7 +66,11 @@ def add_bench_parser(commands) -> None:
     broad.add_argument("--sizes", type=int, nargs="+", default=[100, 300, 1000, 3000, 10000, 30000, 100000])
     broad.add_argument("--repeats", type=int, default=3)
     broad.add_argument("--packing", type=float, default=0.1)
-    for parser in (broad,):
+    render = kinds.add_parser("render", help="the video's job (100 particles, 60 fps, 1 min, 720p): "
+                                              "simulate, draw and encode against encoding alone; peak memory")
+    render.add_argument("--seconds", type=float, default=60.0, help="length of the job")
+    render.add_argument("--no-memory", action="store_true", help="skip the peak-memory runs")
+    for parser in (broad, render):
         parser.add_argument("--out", type=Path, default=Path("renders/bench"), help="folder for CSV and PNG")
         parser.add_argument("--no-progress", action="store_true")
 
@@ -90,7 +94,7 @@ def cmd_render(args) -> int:
     profile = {} if args.profile else None
     start = time.perf_counter()
     path = render(scene, out, args.size, codec=args.codec, quality=args.quality, png_frame=args.png,
-                  progress=not args.no_progress, profile=profile)
+                  progress=not args.no_progress, profile=profile, phases=args.profile)
     seconds = time.perf_counter() - start
     what = f"frame {args.png}" if args.png is not None else f"{scene.frames} frames at {scene.fps:g} fps, {args.codec}"
     print(f"{path}: {what}, {_size_of(path)}, {seconds:.1f} s")
@@ -124,7 +128,33 @@ def cmd_bench(args) -> int:
         for n, best in figures["fastest_vs_ckdtree"].items():
             print(f"n={n}: fastest {best['method']}, {best['ratio']:.2f} x cKDTree build + query_pairs")
         print(f"wrote {figures['csv']} and {figures['png']}")
+    elif args.kind == "render":
+        from .bench.render import run
+        _check_positive_seconds(args.seconds)
+        figures = run(args.out, seconds=args.seconds, memory=not args.no_memory, progress=not args.no_progress)
+        print(format_render_figures(figures))
     return 0
+
+
+def _check_positive_seconds(seconds: float) -> None:
+    if not seconds > 0:
+        raise ValueError(f"seconds must be a finite number > 0, got {seconds}")
+
+
+def format_render_figures(f: dict) -> str:
+    split = f["split"]
+    lines = [
+        f"video job: {f['frames']} frames at {f['size'][0]}x{f['size'][1]}",
+        f"render        {f['render_seconds']:7.2f} s  (simulate {split['simulate']:.2f} s, draw {split['draw']:.2f} s, "
+        f"encode {split['encode']:.2f} s on its own thread)",
+        f"encode only   {f['encode_only_seconds']:7.2f} s  -> render / encode-only = {f['render_over_encode_only']:.2f}",
+        f"simulate only {f['simulate_sweep_prune_seconds']:7.2f} s with sweep_prune, "
+        f"{f['simulate_brute_seconds']:.2f} s with brute force pair checks",
+    ]
+    if "peak_memory_mb" in f:
+        peaks = ", ".join(f"{k}: {v:.0f} MB" for k, v in f["peak_memory_mb"].items())
+        lines.append(f"peak memory rendering particles_250: {peaks}")
+    return "\n".join(lines)
 
 
 def cmd_compare(args) -> int:

@@ -151,20 +151,25 @@ def _compare_world(title: str, scene, methods: list, horizon: float) -> list:
     return rows
 
 
+def run_method(scene, engine: str, substeps: int):
+    """Simulate a single-world scene with one method (as parse_method names it): the Trajectory.
+
+    Only the simulation: no warm-up, no timing, no measurement (the caller decides those)."""
+    if engine == "pymunk":
+        from .reference import simulate_pymunk
+        return simulate_pymunk(scene, substeps=substeps)
+    return simulate(scene.replace(method=engine, substeps=substeps))
+
+
 def _timed_run(scene, engine: str, substeps: int, timed: bool = True) -> tuple:
     """(trajectory or None, wall seconds per simulated second or None, error text or None)."""
-    def run(target):
-        if engine == "pymunk":
-            from .reference import simulate_pymunk
-            return simulate_pymunk(target, substeps=substeps)
-        return simulate(target.replace(method=engine, substeps=substeps))
     try:
         with warnings.catch_warnings(record=True):
             warnings.simplefilter("always")
             if timed:   # compile (or load the compiled kernels) outside the timing
-                run(scene.replace(seconds=min(scene.seconds, 2.0 / scene.fps)))
+                run_method(scene.replace(seconds=min(scene.seconds, 2.0 / scene.fps)), engine, substeps)
             start = time.perf_counter()
-            traj = run(scene)
+            traj = run_method(scene, engine, substeps)
             cost = (time.perf_counter() - start) / (scene.frames / scene.fps)
     except Exception as error:   # an engine that cannot run this world is a finding, not a crash
         return None, None, f"{type(error).__name__}: {error}".splitlines()[0]
@@ -182,9 +187,17 @@ def _measure(world, run: tuple, reference, horizon: float) -> dict:
     row.update(warnings=[], error=error)
     if traj is None:
         return row
+    row.update(measure(world, traj, reference, horizon, cost))
+    return row
+
+
+def measure(world, traj, reference, horizon: float, cost=None) -> dict:
+    """compare's measurements of one trajectory of `world` (the _MEASURES keys and warnings):
+    `reference` is the ccd trajectory for position_error (None leaves it None), `horizon` when
+    to compare positions, `cost` is passed through as the row's wall seconds per simulated second."""
     outside_end, outside_ever = metrics.outside(traj, world)
     pushed = traj.wall_hits.sum() + traj.segment_hits.sum() > 0 or np.any(world.accelerations != 0)
-    row.update(
+    return dict(
         cost=cost,
         energy_drift=metrics.energy_drift(traj, world),
         momentum_drift=None if pushed else metrics.momentum_drift(traj),
@@ -197,7 +210,6 @@ def _measure(world, run: tuple, reference, horizon: float) -> dict:
         wall_pressure=metrics.wall_pressure(traj, world),
         position_error=None if reference is None else metrics.position_error(traj, reference, horizon),
         warnings=[str(w) for w in traj.warnings])
-    return row
 
 
 # --- output ------------------------------------------------------------------------------------

@@ -6,7 +6,10 @@ H.264, so OpenCV's 'mp4v' is the fallback codec.
 from __future__ import annotations
 
 import os
+import queue
 import tempfile
+import threading
+import time
 from fractions import Fraction
 from pathlib import Path
 
@@ -15,6 +18,8 @@ import numpy as np
 
 CODECS = ("h264", "mp4v")
 CRF = {"l": 28, "m": 23, "h": 18}
+# x264 speed for each quality: flat-coloured animation compresses well even at fast presets
+PRESET = {"l": "ultrafast", "m": "superfast", "h": "veryfast"}
 
 
 def check_codec(codec: str) -> None:
@@ -54,13 +59,21 @@ def fps_fraction(fps: float) -> Fraction:
 
 
 class VideoWriter:
-    """Context manager: `with VideoWriter(path, fps, size) as video: video.write(bgr)`.
+    """Context manager that encodes frames on a thread of its own while the caller draws the
+    next ones:
+
+        with VideoWriter(path, fps, size) as video:
+            canvas = video.frame_buffer()   # a reusable (height, width, 3) uint8 BGR buffer
+            ...draw into canvas...
+            video.write(canvas)
 
     The file appears at `path` only after a clean exit; an error or interrupt removes the
-    temporary file.
+    temporary file. `encode_seconds` is the time the encoder thread spent converting and
+    encoding (it overlaps the caller's drawing).
     """
 
-    def __init__(self, path: Path, fps: float, size: tuple, codec: str = "h264", quality: str = "m"):
+    def __init__(self, path: Path, fps: float, size: tuple, codec: str = "h264", quality: str = "m",
+                 buffers: int = 4):
         check_codec(codec)
         self.path = Path(path)
         self.fps = fps
@@ -68,6 +81,15 @@ class VideoWriter:
         self.codec = codec
         self.quality = quality
         self.frames = 0
+        self.encode_seconds = 0.0
+        self._free = queue.Queue()
+        pool = [np.empty((self.height, self.width, 3), np.uint8) for _ in range(buffers)]
+        self._buffer_ids = {id(buffer) for buffer in pool}
+        for buffer in pool:
+            self._free.put(buffer)
+        self._encoded = 0
+        self._todo = queue.Queue()
+        self._error = None
         self.temporary = _temporary_beside(self.path, ".mp4")
 
     def __enter__(self):
@@ -76,6 +98,8 @@ class VideoWriter:
         except BaseException:
             self.temporary.unlink(missing_ok=True)
             raise
+        self._thread = threading.Thread(target=self._encode_loop, name="collisim-encoder", daemon=True)
+        self._thread.start()
         return self
 
     def _open(self) -> None:
@@ -84,8 +108,9 @@ class VideoWriter:
             self._container = av.open(str(self.temporary), mode="w", format="mp4")
             stream = self._container.add_stream("libx264", rate=fps_fraction(self.fps))
             stream.width, stream.height, stream.pix_fmt = self.width, self.height, "yuv420p"
-            stream.options = {"crf": str(CRF[self.quality]), "preset": "veryfast"}
+            stream.options = {"crf": str(CRF[self.quality]), "preset": PRESET[self.quality]}
             self._stream = stream
+            self._yuv = np.empty((self.height * 3 // 2, self.width), np.uint8)
         else:
             fourcc = cv2.VideoWriter_fourcc(*"mp4v")
             self._cv_writer = cv2.VideoWriter(str(self.temporary), fourcc, float(self.fps),
@@ -93,28 +118,70 @@ class VideoWriter:
             if not self._cv_writer.isOpened():
                 raise ValueError("codec mp4v is not available in this OpenCV build")
 
+    def frame_buffer(self) -> np.ndarray:
+        """A free frame buffer to draw into (waits while the encoder holds all of them)."""
+        self._raise_encoder_error()
+        return self._free.get()
+
     def write(self, bgr: np.ndarray) -> None:
-        """bgr: (height, width, 3) uint8."""
+        """Queue a frame (height, width, 3) uint8 BGR; a buffer from frame_buffer() is handed over
+        without a copy, any other array is copied into one."""
+        self._raise_encoder_error()
+        self._todo.put(bgr if self._owns(bgr) else self._copy_into_buffer(bgr))
+        self.frames += 1
+
+    def _owns(self, array) -> bool:
+        return array.shape == (self.height, self.width, 3) and id(array) in self._buffer_ids
+
+    def _copy_into_buffer(self, bgr) -> np.ndarray:
+        buffer = self.frame_buffer()
+        np.copyto(buffer, bgr)
+        return buffer
+
+    def _encode_loop(self) -> None:
+        while True:
+            frame = self._todo.get()
+            if frame is None:
+                return
+            if self._error is None:
+                start = time.perf_counter()
+                try:
+                    self._encode(frame)
+                except BaseException as error:  # handed to the drawing thread at its next call
+                    self._error = error
+                self.encode_seconds += time.perf_counter() - start
+            self._free.put(frame)
+
+    def _encode(self, bgr: np.ndarray) -> None:
         if self.codec == "h264":
             import av
             # OpenCV converts colour faster than the encoder's own scaler
-            yuv = cv2.cvtColor(bgr, cv2.COLOR_BGR2YUV_I420)
-            frame = av.VideoFrame.from_ndarray(yuv, format="yuv420p")
-            frame.pts = self.frames
+            cv2.cvtColor(bgr, cv2.COLOR_BGR2YUV_I420, dst=self._yuv)
+            frame = av.VideoFrame.from_ndarray(self._yuv, format="yuv420p")
+            frame.pts = self._encoded
+            self._encoded += 1
             for packet in self._stream.encode(frame):
                 self._container.mux(packet)
         else:
             self._cv_writer.write(bgr)
-        self.frames += 1
+
+    def _raise_encoder_error(self) -> None:
+        if self._error is not None:
+            raise self._error
 
     def __exit__(self, kind, error, trace):
+        self._todo.put(None)
+        self._thread.join()
+        clean = kind is None and self._error is None
         try:
-            self._close(flush=kind is None)
+            self._close(flush=clean)
         finally:
-            if kind is None:
+            if clean:
                 os.replace(self.temporary, self.path)
             else:
                 self.temporary.unlink(missing_ok=True)
+        if kind is None:
+            self._raise_encoder_error()
         return False
 
     def _close(self, flush: bool) -> None:

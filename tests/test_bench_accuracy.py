@@ -1,0 +1,96 @@
+"""The accuracy benchmark: its workloads are what they claim, and one short run writes a CSV and a
+chart whose numbers behave as the physics says they must."""
+import csv
+
+import numpy as np
+import pytest
+
+import collisim
+from collisim.bench import accuracy
+from collisim.bench.workloads import WORKLOADS, mean_radii_per_frame, packing_fraction
+
+
+def smallest_gap(world) -> float:
+    """The smallest distance between two circles' surfaces (negative: they overlap)."""
+    apart = np.linalg.norm(world.positions[:, None] - world.positions[None], axis=2)
+    reach = world.radii[:, None] + world.radii[None]
+    np.fill_diagonal(apart, np.inf)
+    return float((apart - reach).min())
+
+
+@pytest.mark.parametrize("name", list(WORKLOADS))
+def test_workload_is_a_valid_non_overlapping_deterministic_scene(name):
+    scene = WORKLOADS[name]()
+    again = WORKLOADS[name]()
+    assert isinstance(scene, collisim.Scene) and scene.fps == 60
+    assert scene.world.restitution == 1.0
+    scene.world.validate()                     # inside the box
+    assert smallest_gap(scene.world) > 0
+    assert np.array_equal(scene.world.positions, again.world.positions)
+    assert np.array_equal(scene.world.velocities, again.world.velocities)
+
+
+@pytest.mark.parametrize("name", ["slow_gas", "dense_gas", "fast_gas"])
+def test_gases_have_250_particles(name):
+    assert WORKLOADS[name]().world.n == 250
+
+
+def test_gravity_bounce_falls_under_gravity():
+    world = WORKLOADS["gravity_bounce"]().world
+    assert 1 <= world.n <= 20 and world.gravity[1] < 0 and world.gravity[0] == 0
+
+
+def test_packings_and_speeds_are_as_named():
+    assert packing_fraction(WORKLOADS["dense_gas"]().world) == pytest.approx(0.3, abs=0.01)
+    assert packing_fraction(WORKLOADS["slow_gas"]().world) == pytest.approx(0.05, abs=0.005)
+    assert mean_radii_per_frame(WORKLOADS["slow_gas"]()) == pytest.approx(0.2, rel=0.1)
+    assert mean_radii_per_frame(WORKLOADS["fast_gas"]()) == pytest.approx(2.0, rel=0.1)
+
+
+def test_pareto_front_keeps_points_no_other_beats_on_both():
+    costs = [1.0, 2.0, 3.0, 4.0, 0.5]
+    errors = [1.0, 2.0, 0.5, 0.1, 3.0]
+    assert accuracy.pareto_front(costs, errors) == [4, 0, 2, 3]
+
+
+@pytest.fixture(scope="module")
+def short_run(tmp_path_factory):
+    out = tmp_path_factory.mktemp("accuracy")
+    return accuracy.run(out, workloads=["slow_gas"], seconds=1.0, repeats=1, progress=False)
+
+
+def test_run_writes_every_configuration_to_csv_and_a_chart(short_run):
+    with open(short_run["csv"], newline="") as file:
+        rows = list(csv.DictReader(file))
+    expected = {accuracy.method_label(engine, k) for engine, k in accuracy.configurations()}
+    assert {row["method"] for row in rows} == expected
+    assert len(rows) == len(expected) == 14
+    assert {"pymunk x1", "pymunk x32"} <= {row["method"] for row in rows}
+    assert set(accuracy.COLUMNS) == set(rows[0])
+    png = short_run["png"]["slow_gas"]
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 10_000
+
+
+def test_ccd_errors_are_zero_against_itself(short_run):
+    ccd = next(row for row in short_run["rows"] if row["method"] == "ccd")
+    assert ccd["position_error"] == 0 and ccd["pressure_error"] == 0
+    assert ccd["lost"] == 0 and ccd["missed"] == 0
+    assert ccd["max_overlap"] < 1e-9 and ccd["energy_drift"] < 1e-12   # round-off only
+    assert ccd["cost"] > 0
+
+
+def test_more_discrete_substeps_follow_ccd_more_closely(short_run):
+    error = {row["substeps"]: row["position_error"] for row in short_run["rows"] if row["engine"] == "discrete"}
+    assert error[64] < error[8] < error[1]
+    assert error[64] < 0.1 * error[1]           # first order in dt: 64x smaller steps, far closer
+
+
+def test_budget_ratio_is_ccd_time_over_pymunk_x1(short_run):
+    cost = {row["method"]: row["cost"] for row in short_run["rows"]}
+    assert short_run["budget"]["ccd_over_pymunk_x1"]["slow_gas"] == pytest.approx(cost["ccd"] / cost["pymunk x1"])
+    assert short_run["budget"]["fast_gas_lossless_pymunk_substeps"] is None   # fast_gas was not run
+
+
+def test_unknown_workload_is_one_clear_error(tmp_path):
+    with pytest.raises(ValueError, match="unknown workload 'nope'"):
+        accuracy.run(tmp_path, workloads=["nope"], progress=False)
