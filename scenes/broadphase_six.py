@@ -98,6 +98,21 @@ def explainer(method, radii):
     return overlay
 
 
+def narrow_phase(radii):
+    """What every broad phase hands on: the candidates, and the pairs that really touch."""
+    def overlay(canvas, view, state):
+        positions = state.positions
+        pairs = describe("sweep_prune", positions - radii[:, None], positions + radii[:, None])["pairs"]
+        gap = np.hypot(*(positions[pairs[:, 0]] - positions[pairs[:, 1]]).T) - radii[pairs].sum(axis=1)
+        touching = pairs[gap <= 0]
+        draw_pairs(canvas, view, positions, pairs, palette.HIGHLIGHT, 1)
+        draw_pairs(canvas, view, positions, touching, palette.FLASH, 3)
+        x, y = view.to_pixels([BOX[0], BOX[3]])
+        caption = f"narrow phase: {len(touching)} of {len(pairs)} candidates touch"
+        raster.draw_text(canvas, caption, (x + 6, y + 18), scale=0.42, color_rgb=palette.TEXT)
+    return overlay
+
+
 def panel(method):
     positions, velocities, radii = six_particles()
     world = collisim.World(positions=positions, velocities=velocities, radii=radii, box=BOX, colors=COLORS)
@@ -106,6 +121,14 @@ def panel(method):
     return collisim.Panel(scene, TITLES[method])
 
 
+def narrow_panel():
+    positions, velocities, radii = six_particles()
+    world = collisim.World(positions=positions, velocities=velocities, radii=radii, box=BOX, colors=COLORS)
+    settings = collisim.RenderSettings(hud=False, flash=True, overlay=narrow_phase(radii))
+    return collisim.Panel(collisim.Scene(world=world, fps=60, seconds=12.0, render=settings),
+                          "then the narrow phase: exact tests")
+
+
 def scene() -> collisim.Scene:
-    panels = [panel(method) for method in ("brute", "sweep_prune", "grid", "kdtree", "bvh")]
+    panels = [panel(method) for method in ("brute", "sweep_prune", "grid", "kdtree", "bvh")] + [narrow_panel()]
     return collisim.Scene(panels=panels, fps=60, seconds=12.0, render=collisim.RenderSettings(layout=(2, 3)))

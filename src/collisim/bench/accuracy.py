@@ -8,8 +8,9 @@ Every workload of collisim.bench.workloads runs under
     substeps per frame, the widely used impulse engine a user would otherwise reach for.
 
 Cost: wall seconds per simulated second, the median of `repeats` runs of the simulation alone
-(after a two-frame warm-up, so numba compilation or cache loading is not counted; measuring
-runs no metric). Errors, one CSV column each (collisim.metrics defines them):
+(after a two-frame warm-up, so numba compilation or cache loading is not counted; no metric
+runs inside the timing). The runs go in rounds over all configurations of a workload, so a
+burst of load from elsewhere on a shared machine is not charged to one configuration. Errors, one CSV column each (collisim.metrics defines them):
   energy_drift     |E_end − E_0| / E_0 (kinetic plus potential): an elastic world keeps it;
   max_overlap      deepest pair overlap seen in any frame, in radii: ccd never overlaps;
   lost             particles whose centre was beyond a wall in some frame (metrics.outside);
@@ -78,15 +79,18 @@ def configurations() -> list:
             + [("pymunk", k) for k in PYMUNK_SUBSTEPS])
 
 
-def timed_run(scene, engine: str, substeps: int, repeats: int) -> tuple:
-    """(trajectory, median wall seconds per simulated second) of `repeats` runs of the scene."""
-    run_method(scene.replace(seconds=WARM_UP_FRAMES / scene.fps), engine, substeps)
-    seconds = []
-    for _ in range(repeats):
+def timed_run(scene, engine: str, substeps: int) -> tuple:
+    """(trajectory, wall seconds) of one run of the scene: the simulation alone."""
+    with warnings.catch_warnings():   # ccd's event-budget warning is kept in the trajectory
+        warnings.simplefilter("ignore")
         start = time.perf_counter()
         traj = run_method(scene, engine, substeps)
-        seconds.append(time.perf_counter() - start)
-    return traj, float(np.median(seconds)) / (scene.frames / scene.fps)
+        return traj, time.perf_counter() - start
+
+
+def warm_up(scene, engine: str, substeps: int) -> None:
+    """Compile (or load from numba's cache) the method's kernels outside any timing."""
+    timed_run(scene.replace(seconds=WARM_UP_FRAMES / scene.fps), engine, substeps)
 
 
 def relative_error(value: float, reference: float) -> float:
@@ -95,13 +99,14 @@ def relative_error(value: float, reference: float) -> float:
     return abs(value - reference) / abs(reference)
 
 
-def error_row(workload: str, scene, engine: str, substeps: int, traj, cost: float, reference) -> dict:
-    """One CSV row: the configuration, its cost and its errors against the ccd trajectory."""
-    measured = measure(scene.world, traj, reference, HORIZON, cost)
+def error_row(workload: str, scene, engine: str, substeps: int, traj, reference) -> dict:
+    """One CSV row: the configuration and its errors against the ccd trajectory (cost: None,
+    filled in once every round is timed)."""
+    measured = measure(scene.world, traj, reference, HORIZON)
     reference_pressure = metrics.wall_pressure(reference, scene.world)
     return dict(
         workload=workload, method=method_label(engine, substeps), engine=engine, substeps=substeps,
-        seconds=scene.frames / scene.fps, cost=cost,
+        seconds=scene.frames / scene.fps, cost=None,
         energy_drift=measured["energy_drift"], max_overlap=measured["max_overlap"],
         lost=measured["outside_ever"], missed=measured["missed_pairs"],
         position_error=measured["position_error"],
@@ -111,16 +116,29 @@ def error_row(workload: str, scene, engine: str, substeps: int, traj, cost: floa
 
 
 def measure_workload(workload: str, scene, repeats: int, bar) -> list:
-    """Every configuration's row for one scene; ccd runs first, as everyone's reference."""
+    """Every configuration's row for one scene; ccd runs first, as everyone's reference.
+
+    The repeats are rounds over all configurations, not back-to-back runs of each: on a shared
+    machine a burst of load from elsewhere then lands on one run of several configurations
+    (and the median drops it) rather than on every run of one. Errors come from the first
+    round (every method is deterministic), so only the ccd trajectory is kept."""
+    configs = configurations()
+    for engine, substeps in configs:
+        warm_up(scene, engine, substeps)
+    seconds = {config: [] for config in configs}
     rows, reference = [], None
-    for engine, substeps in configurations():
-        bar.set_postfix_str(f"{workload} {method_label(engine, substeps)}")
-        with warnings.catch_warnings():   # ccd's event-budget warning is kept in the row's notes
-            warnings.simplefilter("ignore")
-            traj, cost = timed_run(scene, engine, substeps, repeats)
-        reference = traj if engine == "ccd" else reference
-        rows.append(error_row(workload, scene, engine, substeps, traj, cost, reference))
-        bar.update()
+    for round_index in range(repeats):
+        for engine, substeps in configs:
+            bar.set_postfix_str(f"{workload} {method_label(engine, substeps)}")
+            traj, spent = timed_run(scene, engine, substeps)
+            seconds[(engine, substeps)].append(spent)
+            if round_index == 0:
+                reference = traj if engine == "ccd" else reference
+                rows.append(error_row(workload, scene, engine, substeps, traj, reference))
+            bar.update()
+    simulated = scene.frames / scene.fps
+    for row, config in zip(rows, configs):
+        row["cost"] = float(np.median(seconds[config])) / simulated
     return rows
 
 
@@ -219,10 +237,12 @@ def run(out_dir, workloads=None, seconds: float = 10.0, repeats: int = 3, progre
     unknown = [name for name in names if name not in WORKLOADS]
     if unknown:
         raise ValueError(f"unknown workload '{unknown[0]}'; choose from: {', '.join(WORKLOADS)}")
+    if int(repeats) != repeats or repeats < 1:
+        raise ValueError(f"repeats must be a whole number >= 1, got {repeats}")
     out_dir = pathlib.Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     rows, pngs = [], {}
-    with tqdm(total=len(names) * len(configurations()), file=sys.stderr, disable=not progress,
+    with tqdm(total=len(names) * len(configurations()) * repeats, file=sys.stderr, disable=not progress,
               desc="accuracy") as bar:
         for name in names:
             scene = WORKLOADS[name]().replace(seconds=seconds, broadphase=BROADPHASE)
