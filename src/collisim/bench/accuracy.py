@@ -10,14 +10,24 @@ Every workload of collisim.bench.workloads runs under
 Cost: wall seconds per simulated second, the median of `repeats` runs of the simulation alone
 (after a two-frame warm-up, so numba compilation or cache loading is not counted; no metric
 runs inside the timing). The runs go in rounds over all configurations of a workload, so a
-burst of load from elsewhere on a shared machine is not charged to one configuration. Errors, one CSV column each (collisim.metrics defines them):
+burst of load from elsewhere on a shared machine is not charged to one configuration.
+
+Errors, one CSV column each (collisim.metrics defines them):
   energy_drift     |E_end − E_0| / E_0 (kinetic plus potential): an elastic world keeps it;
   max_overlap      deepest pair overlap seen in any frame, in radii: ccd never overlaps;
-  lost             particles whose centre was beyond a wall in some frame (metrics.outside);
+  lost             particles whose centre was beyond a wall in some frame (metrics.outside,
+                   "ever"); pymunk's thick walls push such a particle back in later, so this
+                   counts a visible failure, not necessarily an escape;
   missed           pairs that passed through each other within a frame, never pushed apart;
-  position_error   RMS distance from ccd's particles at 0.25 s, in radii: early enough that the
-                   gas's chaos has not yet amplified every difference into a random one;
-  pressure_error   |P − P_ccd| / P_ccd for the mean wall pressure over the run.
+  position_error   RMS distance from ccd's particles at 0.25 s, in radii. In the slow and
+                   dense gases and the bounces this is early enough to show each method's
+                   own error; in the fast gas a particle has had about three collisions by
+                   then, each multiplying a difference about twenty-fold (the mean free path
+                   is ~11 radii), so every configuration ends up 10-25 radii off (discrete
+                   x256 and x1024, 2e-3 radii apart after one frame, are 7 apart at 0.25 s):
+                   there it ranks little;
+  pressure_error   |P − P_ccd| / P_ccd for the mean wall pressure over the run (its scatter
+                   from the finite number of wall hits is a few per cent in the slow gas).
 ccd's own rows measure round-off: its position and pressure errors are 0 by definition.
 
 Each workload gets a figure with one panel per error against cost on log axes, and the Pareto
