@@ -94,3 +94,13 @@ def test_budget_ratio_is_ccd_time_over_pymunk_x1(short_run):
 def test_unknown_workload_is_one_clear_error(tmp_path):
     with pytest.raises(ValueError, match="unknown workload 'nope'"):
         accuracy.run(tmp_path, workloads=["nope"], progress=False)
+
+
+def test_bench_accuracy_cli_prints_the_budget_ratios(cli, tmp_path):
+    result = cli("bench", "accuracy", "--workloads", "slow_gas", "--seconds", "0.5", "--repeats", "1",
+                 "--no-progress", "--out", tmp_path)
+    assert result.returncode == 0, result.stderr
+    assert "ccd / pymunk x1 on slow_gas:" in result.stdout
+    assert (tmp_path / "accuracy.csv").exists() and (tmp_path / "accuracy_slow_gas.png").exists()
+    bad = cli("bench", "accuracy", "--workloads", "lava", "--out", tmp_path)
+    assert bad.returncode == 2 and "unknown workload 'lava'" in bad.stderr

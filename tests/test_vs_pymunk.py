@@ -238,11 +238,14 @@ def test_gas_collision_rate_and_pressure(gas):
 
 def test_gas_energy(gas):
     scene, runs = gas
-    # no gravity: Chipmunk's slop and bias correct positions only, never velocities, and an
-    # isolated contact is solved exactly, so its kinetic energy can only move through
-    # simultaneous contacts (rare in this dilute gas): it stays at round-off, as collisim's
-    for name, traj in runs.items():
-        assert metrics.energy_drift(traj, scene.world) < 1e-9, name
+    # collisim's impulses and overlap removal change no kinetic energy: round-off only.
+    for name in ("discrete", "ccd"):
+        assert metrics.energy_drift(runs[name], scene.world) < 1e-9, name
+    # No gravity: Chipmunk's slop and bias correct positions only, and an isolated contact is
+    # solved exactly, so pymunk's kinetic energy moves only through simultaneous contacts, which
+    # its iterative solver resolves approximately. In this dilute gas a few per run: measured
+    # 3e-14 to 6e-5 depending on the start; 1e-3 is ten times the worst seen on a dense gas.
+    assert metrics.energy_drift(runs["pymunk"], scene.world) < 1e-3
 
 
 # --- tunnelling ----------------------------------------------------------------------------------
@@ -322,7 +325,9 @@ def test_compare_runs_every_panel_and_reports_a_method_that_cannot_run():
     panels = [collisim.Panel(collisim.Scene(world=w, fps=30, seconds=0.5), title) for w, title in
               ((uneven, "uneven"), (even, "even"))]
     rows = compare(collisim.Scene(panels=panels, fps=30, seconds=0.5), methods=["ccd", "pymunk x2"])
-    assert [r["label"] for r in rows] == ["uneven: ccd", "uneven: pymunk x2", "even: ccd", "even: pymunk x2"]
+    # each distinct world is titled by what it holds
+    assert [r["label"] for r in rows] == ["2 particles: ccd", "2 particles: pymunk x2",
+                                          "1 particle: ccd", "1 particle: pymunk x2"]
     assert rows[0]["error"] and rows[0]["energy_drift"] is None and rows[1]["position_error"] is None
     assert rows[2]["error"] is None and "could not run" in format_table(rows)
 

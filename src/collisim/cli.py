@@ -70,7 +70,12 @@ def add_bench_parser(commands) -> None:
                                               "simulate, draw and encode against encoding alone; peak memory")
     render.add_argument("--seconds", type=float, default=60.0, help="length of the job")
     render.add_argument("--no-memory", action="store_true", help="skip the peak-memory runs")
-    for parser in (broad, render):
+    accuracy = kinds.add_parser("accuracy", help="speed against error for discrete, ccd and pymunk on four "
+                                                  "workloads, with the Pareto front")
+    accuracy.add_argument("--workloads", "--scenes", nargs="+", help="slow_gas dense_gas fast_gas gravity_bounce")
+    accuracy.add_argument("--seconds", type=float, default=10.0)
+    accuracy.add_argument("--repeats", type=int, default=3)
+    for parser in (broad, render, accuracy):
         parser.add_argument("--out", type=Path, default=Path("renders/bench"), help="folder for CSV and PNG")
         parser.add_argument("--no-progress", action="store_true")
 
@@ -128,6 +133,18 @@ def cmd_bench(args) -> int:
         for n, best in figures["fastest_vs_ckdtree"].items():
             print(f"n={n}: fastest {best['method']}, {best['ratio']:.2f} x cKDTree build + query_pairs")
         print(f"wrote {figures['csv']} and {figures['png']}")
+    elif args.kind == "accuracy":
+        from .bench.accuracy import run
+        from .bench.workloads import WORKLOADS
+        _check_positive_seconds(args.seconds)
+        unknown = sorted(set(args.workloads or ()) - set(WORKLOADS))
+        if unknown or args.repeats < 1:
+            raise ValueError(f"unknown workload '{unknown[0]}'; choose from: {', '.join(WORKLOADS)}" if unknown
+                             else "repeats must be >= 1")
+        figures = run(args.out, workloads=args.workloads, seconds=args.seconds, repeats=args.repeats,
+                      progress=not args.no_progress)
+        print(format_accuracy_budget(figures["budget"]))
+        print(f"wrote {figures['csv']} and {len(figures['png'])} charts")
     elif args.kind == "render":
         from .bench.render import run
         _check_positive_seconds(args.seconds)
@@ -139,6 +156,14 @@ def cmd_bench(args) -> int:
 def _check_positive_seconds(seconds: float) -> None:
     if not seconds > 0:
         raise ValueError(f"seconds must be a finite number > 0, got {seconds}")
+
+
+def format_accuracy_budget(budget: dict) -> str:
+    lines = [f"ccd / pymunk x1 on {workload}: {ratio:.2f}" for workload, ratio in budget["ccd_over_pymunk_x1"].items()]
+    if budget["fast_gas_lossless_pymunk_substeps"] is not None:
+        lines.append(f"fast_gas: pymunk first loses no particle at x{budget['fast_gas_lossless_pymunk_substeps']}; "
+                     f"ccd / that = {budget['fast_gas_ccd_over_lossless_pymunk']:.2f}")
+    return "\n".join(lines)
 
 
 def format_render_figures(f: dict) -> str:
