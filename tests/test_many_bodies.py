@@ -82,7 +82,7 @@ def test_bench_broadphase_writes_csv_and_chart_with_reference_lines(cli, tmp_pat
     assert result.returncode == 0, result.stderr
     rows = list(csv.DictReader(open(tmp_path / "broadphase.csv")))
     methods = {row["method"] for row in rows}
-    assert set(METHODS) | {"scipy_ckdtree", "pymunk_step"} <= methods
+    assert set(METHODS) | {"scipy_ckdtree", "pymunk_step", "discrete_step"} <= methods
     for n in ("50", "400"):   # every method finds every touching pair
         true_pairs = {row["true_pairs"] for row in rows if row["n"] == n and row["method"] in METHODS}
         assert len(true_pairs) == 1

@@ -131,7 +131,8 @@ def cmd_bench(args) -> int:
         figures = run(args.out, sizes=args.sizes, packing=args.packing, repeats=args.repeats,
                       progress=not args.no_progress)
         for n, best in figures["fastest_vs_ckdtree"].items():
-            print(f"n={n}: fastest {best['method']}, {best['ratio']:.2f} x cKDTree build + query_pairs")
+            print(f"n={n}: fastest {best['method']}, {best['ratio']:.2f} x cKDTree build + query_pairs; "
+                  f"whole discrete step {figures['discrete_vs_pymunk'][n]:.2f} x pymunk's")
         print(f"wrote {figures['csv']} and {figures['png']}")
     elif args.kind == "accuracy":
         from .bench.accuracy import run

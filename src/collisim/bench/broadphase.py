@@ -12,6 +12,10 @@ frame's order. Two dashed reference lines put the numbers in context:
 * one ``pymunk`` ``Space.step(1/60)`` on the same circles — a whole physics
   step (broad phase, narrow phase and solver) of a real engine.
 
+The whole discrete step (collisim's engine with the grid, integrate to walls) is timed
+against pymunk's ``Space.step`` over many steps of the same moving gas, started without
+overlaps (a jittered lattice at the same packing), so both run in their steady state.
+
 Writes ``broadphase.csv`` and ``broadphase.png`` to the output folder.
 """
 
@@ -28,7 +32,8 @@ BRUTE_MAX_N = 3000  # brute force above this would take minutes
 RADII = (1.0, 1.5, 2.0)
 RADIUS_SHARES = (0.5, 0.3, 0.2)  # 5 : 3 : 2
 NUDGE = 0.05  # how far (in radii) particles move between the two frames
-REFERENCES = ("scipy_ckdtree", "pymunk_step")
+REFERENCES = ("scipy_ckdtree", "pymunk_step", "discrete_step")
+STEP_WORK = 200_000   # particle-steps per timing of a whole step: 200 steps at n = 1000
 
 
 def random_gas(n: int, packing: float, seed: int) -> tuple[np.ndarray, np.ndarray]:
@@ -79,25 +84,49 @@ def time_ckdtree(positions: np.ndarray, radii: np.ndarray, repeats: int) -> tupl
     return float(np.median(seconds)), len(pairs)
 
 
-def time_pymunk(positions: np.ndarray, radii: np.ndarray, repeats: int) -> float:
-    """Median seconds of pymunk Space.step(1/60) on the same circles (mass = area,
-    elasticity 1, friction 0, no gravity), after one warm-up step."""
-    import pymunk
+def moving_gas(n: int, packing: float, seed: int) -> "collisim.Scene":
+    """n circles on a jittered lattice (no overlaps) in a box at `packing`, moving about a
+    tenth of a radius per step: the steady state of a gas."""
+    import collisim
+    from collisim.gas import lattice_gas
 
-    space = pymunk.Space()
-    for (x, y), radius in zip(positions, radii):
-        mass = np.pi * radius ** 2
-        body = pymunk.Body(mass, pymunk.moment_for_circle(mass, 0, radius))
-        body.position = float(x), float(y)
-        circle = pymunk.Circle(body, float(radius))
-        circle.elasticity, circle.friction = 1.0, 0.0
-        space.add(body, circle)
-    space.step(1 / 60)
+    mean_area = np.pi * np.dot(np.square((0.22, 0.32, 0.45)), (0.5, 0.3, 0.2))
+    side = np.sqrt(n * mean_area / packing)
+    positions, velocities, radii = lattice_gas(n, box=(0.0, 0.0, side, side), speed=0.1 * 0.3 * 60, seed=seed)
+    world = collisim.World(positions=positions, velocities=velocities, radii=radii, box=(0.0, 0.0, side, side))
+    return collisim.Scene(world=world, fps=60, seconds=1.0, broadphase="grid")
+
+
+def time_discrete_step(scene, repeats: int) -> float:
+    """Median seconds per step of collisim's discrete engine (grid, fused) over a run of steps."""
+    from collisim.engine.discrete import DiscreteStepper
+
+    stepper = DiscreteStepper(scene.world, scene.fps, 1, "grid")
+    stepper.run(2)
+    steps = max(5, STEP_WORK // scene.world.n)
     seconds = []
     for _ in range(repeats):
         start = time.perf_counter()
-        space.step(1 / 60)
-        seconds.append(time.perf_counter() - start)
+        stepper.run(steps)
+        seconds.append((time.perf_counter() - start) / steps)
+    return float(np.median(seconds))
+
+
+def time_pymunk(scene, repeats: int) -> float:
+    """Median seconds per pymunk Space.step(1/60) on the same gas, built by collisim's mirror
+    (same masses and radii, elasticity 1, friction 0, walls) with Chipmunk's default 10 solver
+    iterations, over a run of steps."""
+    from collisim.reference.pymunk_mirror import Mirror
+
+    space = Mirror(scene.world, iterations=10).space
+    space.step(1 / 60)
+    steps = max(5, STEP_WORK // scene.world.n)
+    seconds = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        for _ in range(steps):
+            space.step(1 / 60)
+        seconds.append((time.perf_counter() - start) / steps)
     return float(np.median(seconds))
 
 
@@ -136,10 +165,12 @@ def measure(sizes, packing: float, repeats: int, seed: int, progress: bool) -> l
             rows.append(dict(method="scipy_ckdtree", n=n, seconds_per_frame=seconds,
                              candidates=found, true_pairs=true_pairs))
             bar.update()
-            bar.set_postfix_str(f"n={n} pymunk")
-            rows.append(dict(method="pymunk_step", n=n, seconds_per_frame=time_pymunk(moved, radii, repeats),
-                             candidates="", true_pairs=true_pairs))
-            bar.update()
+            gas = moving_gas(n, packing, seed)
+            for name, timer in (("pymunk_step", time_pymunk), ("discrete_step", time_discrete_step)):
+                bar.set_postfix_str(f"n={n} {name}")
+                rows.append(dict(method=name, n=n, seconds_per_frame=timer(gas, repeats), candidates="",
+                                 true_pairs=""))
+                bar.update()
     return rows
 
 
@@ -159,7 +190,8 @@ def plot(rows: list[dict], path: pathlib.Path, packing: float) -> None:
     FigureCanvasAgg(figure)
     axes = figure.add_subplot()
     labels = {"scipy_ckdtree": "scipy cKDTree build + query_pairs",
-              "pymunk_step": "pymunk Space.step (whole physics step)"}
+              "pymunk_step": "pymunk Space.step (whole physics step)",
+              "discrete_step": "collisim discrete step, grid (whole physics step)"}
     for method in (*METHODS, *REFERENCES):
         mine = [row for row in rows if row["method"] == method]
         axes.plot([row["n"] for row in mine], [row["seconds_per_frame"] for row in mine],
@@ -187,12 +219,20 @@ def fastest_vs_ckdtree(rows: list[dict]) -> dict:
     return result
 
 
+def discrete_vs_pymunk(rows: list[dict]) -> dict:
+    """For each n: collisim's whole discrete step divided by pymunk's."""
+    time_of = {(row["method"], row["n"]): row["seconds_per_frame"] for row in rows}
+    return {n: time_of[("discrete_step", n)] / time_of[("pymunk_step", n)]
+            for n in sorted({row["n"] for row in rows})}
+
+
 def run(out_dir: pathlib.Path, sizes=(100, 300, 1000, 3000, 10000, 30000, 100000), packing=0.1,
         repeats=3, seed=0, progress=True) -> dict:
     """Time every method at every size; write broadphase.csv and broadphase.png.
 
     Returns {"csv": path, "png": path, "rows": [CSV rows as dicts],
-    "fastest_vs_ckdtree": {n: {"method": name, "ratio": fastest / cKDTree time}}}.
+    "fastest_vs_ckdtree": {n: {"method": name, "ratio": fastest / cKDTree time}},
+    "discrete_vs_pymunk": {n: collisim step / pymunk step}}.
     """
     out_dir = pathlib.Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
@@ -201,5 +241,6 @@ def run(out_dir: pathlib.Path, sizes=(100, 300, 1000, 3000, 10000, 30000, 100000
     csv_path, png_path = out_dir / "broadphase.csv", out_dir / "broadphase.png"
     write_csv(rows, csv_path)
     plot(rows, png_path, packing)
-    return {"csv": csv_path, "png": png_path, "rows": rows, "fastest_vs_ckdtree": fastest_vs_ckdtree(rows)}
+    return {"csv": csv_path, "png": png_path, "rows": rows, "fastest_vs_ckdtree": fastest_vs_ckdtree(rows),
+            "discrete_vs_pymunk": discrete_vs_pymunk(rows)}
 

@@ -39,10 +39,11 @@ particle; j the other particle or -1; other the event's other index (wall, parti
 nx, ny the normal from i towards the other body; approach the approach speed before; impulse;
 x, y the contact point; can_rest: may i come to rest on this obstacle. count (1,) int64."""
 
-# Gauss-Seidel sweeps stop when no impulse changes any velocity by more than this
-# fraction of the fastest approach speed (or after MAX_SWEEPS).
+# Gauss-Seidel sweeps stop when no impulse changes a velocity by more than this
+# fraction of the largest speed involved, or after MAX_SWEEPS (slowly converging
+# groups: long chains of simultaneous contacts).
 SWEEP_TOLERANCE = 1e-15
-MAX_SWEEPS = 10_000
+MAX_SWEEPS = 100
 
 
 @njit(cache=True)
@@ -121,7 +122,10 @@ def solve_contacts(bodies, restitution, contacts):
     count = contacts.count[0]
     scale = 0.0
     for k in range(count):
-        scale = max(scale, contacts.approach[k])
+        i, j = contacts.i[k], contacts.j[k]
+        scale = max(scale, contacts.approach[k], abs(bodies.vel[i, 0]), abs(bodies.vel[i, 1]))
+        if j >= 0:
+            scale = max(scale, abs(bodies.vel[j, 0]), abs(bodies.vel[j, 1]))
     for _ in range(MAX_SWEEPS):
         largest = 0.0
         for k in range(count):
