@@ -3,7 +3,7 @@ import numpy as np
 
 import collisim
 from collisim import palette
-from collisim.broadphase import describe
+from collisim.broadphase import describe, make
 from collisim.render import raster
 
 TITLES = {"brute": "brute force", "sweep_prune": "sweep and prune", "grid": "uniform grid",
@@ -85,7 +85,8 @@ def explainer(method, radii):
     def overlay(canvas, view, state):
         positions = state.positions
         lo, hi = positions - radii[:, None], positions + radii[:, None]
-        info = describe(method, lo, hi, **OPTIONS.get(method, {}))
+        phase = make(method, **OPTIONS.get(method, {}))
+        info = phase.describe(lo, hi)
         if method in DRAW:
             DRAW[method](canvas, view, info, lo, hi)
         all_pairs = np.column_stack(np.triu_indices(len(positions), 1))
@@ -95,6 +96,10 @@ def explainer(method, radii):
         x, y = view.to_pixels([BOX[0], BOX[3]])
         caption = f"{TITLES[method]}: {len(info['pairs'])} candidate pairs of {len(all_pairs)}"
         raster.draw_text(canvas, caption, (x + 6, y + 18), scale=0.42, color_rgb=palette.TEXT)
+        if method == "grid":  # the grid's trade-off: memory for fewer checks
+            nx, ny = info["shape"]
+            note = f"{nx} x {ny} cells, {phase.stats['memory_bytes']} bytes"
+            raster.draw_text(canvas, note, (x + 6, y + 36), scale=0.38, color_rgb=palette.DIM_TEXT)
     return overlay
 
 

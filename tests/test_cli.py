@@ -171,3 +171,13 @@ def test_bench_render_reports_the_split_and_the_encode_only_floor(cli, tmp_path)
     assert figures["render_over_encode_only"] == pytest.approx(figures["render_seconds"] / figures["encode_only_seconds"])
     assert "render / encode-only" in result.stdout
     assert sorted(p.name for p in tmp_path.iterdir()) == ["render.json"]   # scratch videos removed
+
+
+@pytest.mark.parametrize("scene", ["single_bounce", "two_bodies", "particles_250"])
+def test_scenes_render_with_either_method(cli, tmp_path, scene):
+    for method in ("discrete", "ccd"):
+        out = tmp_path / f"{scene}_{method}.mp4"
+        result = cli("render", scene, "--method", method, "--seconds", "0.25", "--size", "160x90",
+                     "--no-progress", "--out", out)
+        assert result.returncode == 0, result.stderr
+        assert decode_video(out)[:3] == (15, 160, 90)

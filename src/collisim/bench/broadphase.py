@@ -190,8 +190,8 @@ def plot(rows: list[dict], path: pathlib.Path, packing: float) -> None:
     FigureCanvasAgg(figure)
     axes = figure.add_subplot()
     labels = {"scipy_ckdtree": "scipy cKDTree build + query_pairs",
-              "pymunk_step": "pymunk Space.step (whole physics step)",
-              "discrete_step": "collisim discrete step, grid (whole physics step)"}
+              "pymunk_step": "pymunk Space.step: a whole step of a moving gas",
+              "discrete_step": "collisim discrete step (grid): a whole step of the same gas"}
     for method in (*METHODS, *REFERENCES):
         mine = [row for row in rows if row["method"] == method]
         axes.plot([row["n"] for row in mine], [row["seconds_per_frame"] for row in mine],
@@ -201,7 +201,7 @@ def plot(rows: list[dict], path: pathlib.Path, packing: float) -> None:
     axes.set_yscale("log")
     axes.set_xlabel("particles n")
     axes.set_ylabel("seconds per frame")
-    axes.set_title(f"Broad phase: time per frame (random gas, packing {packing:g})")
+    axes.set_title(f"Broad phases on a random gas, whole steps on a moving gas (packing {packing:g})")
     axes.grid(True, which="both", alpha=0.3)
     axes.legend()
     figure.tight_layout()
