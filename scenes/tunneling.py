@@ -98,14 +98,15 @@ def explanation_overlay(world, found_t_c):
         raster.draw_rings(canvas, view.to_pixels([pc]), view.length([BIG]), palette.HIGHLIGHT, 2)
         notes = [(p0, "frame 0: p0"), (p1, "frame 1 without ccd: p1, through the floor"),
                  (pc, f"t_c = {T_C:.2f}: r above the floor"), (reflected, "frame 1 with ccd: reflected")]
+        size = max(0.38, 0.5 * min(1.0, view.scale / 66))   # text shrinks with small frames
         for point, text in notes:
             x, y = view.to_pixels(point)
-            raster.draw_text(canvas, text, (x + view.length(BIG * 1.15), y + 5), scale=0.5, color_rgb=palette.TEXT)
-        x, y = view.to_pixels([0.3, -2.4])
+            raster.draw_text(canvas, text, (x + view.length(BIG * 1.15), y + 5), scale=size, color_rgb=palette.TEXT)
         for k, line in enumerate(["p(t) = (1 - t) p0 + t p1     linear interpolation over the frame",
                                   "y(t_c) = floor + r          the constraint: solve it for t_c",
                                   f"after t_c, v_y flips: the path mirrors   (engine found t_c = {found_t_c:.4f})"]):
-            raster.draw_text(canvas, line, (x, y + 24 * k), scale=0.5, color_rgb=palette.TEXT)
+            x, y = view.to_pixels([0.3, -2.3 - 0.38 * k])
+            raster.draw_text(canvas, line, (x, y), scale=size, color_rgb=palette.TEXT)
     return overlay
 
 

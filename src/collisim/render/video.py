@@ -138,9 +138,9 @@ def panel_rects(count: int, size: tuple, layout=None) -> list:
 def output_size(scene: Scene, size, quality: str) -> tuple:
     """The frame size: explicit, else the scene's scaled by quality (l 480p, m 720p, h 1080p).
     Odd sizes become even (H.264 with yuv420p needs even sizes), with a warning."""
-    if size is None:
+    if size is None:  # a preset: scale the scene's size and keep it even without a word
         factor = {"l": 480 / 720, "m": 1.0, "h": 1.5}[quality]
-        size = tuple(int(round(s * factor)) for s in scene.render.size)
+        size = tuple(2 * int(round(s * factor / 2)) for s in scene.render.size)
     width, height = (int(s) for s in size)
     if width < MIN_SIZE or height < MIN_SIZE:
         raise ValueError(f"size {width}x{height} is too small; the minimum is {MIN_SIZE}x{MIN_SIZE}")
