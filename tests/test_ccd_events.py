@@ -175,12 +175,30 @@ def test_ball_rests_on_a_ramp_slides_off_and_rests_on_the_floor():
     assert result.positions[-1, 0, 1] == 0.5 and result.velocities[-1, 0, 1] == 0.0
 
 
-def test_zeno_pile_hits_the_budget_and_stays_valid():
-    positions = [(5.0, 1.0), (5.0, 3.0), (3.0, 1.0), (3.0, 3.05), (6.0, 6.0)]
-    result = run(positions, np.zeros((5, 2)), gravity=(0.0, -9.81), restitution=0.5, frame_dt=1 / 60,
-                 n_frames=60, max_events_per_frame=2000)
-    assert result.budget_exceeded.any()
-    assert result.positions.min() >= 1.0 and result.positions.max() <= 9.0
+def test_ball_dropped_on_a_resting_ball_stays_on_top():
+    result = run([(5.0, 0.5), (5.0, 4.0)], np.zeros((2, 2)), radii=0.5, gravity=(0.0, -9.81), restitution=0.5,
+                 frame_dt=1 / 60, n_frames=300)
+    assert not result.budget_exceeded.any()
+    assert result.positions[:, 1, 1].min() >= 1.5 * (1 - 1e-9)
+    # Both settle, up to the invisible micro-bounce (a ten-thousandth of the radius).
+    assert abs(result.positions[-1, 1, 1] - 1.5) <= 1e-4 and abs(result.positions[-1, 0, 1] - 0.5) <= 1e-4
+
+
+def test_ball_comes_to_rest_wedged_at_the_bottom_of_a_v():
+    vee = np.array([[1.0, 6.0, 5.0, 2.0], [5.0, 2.0, 9.0, 6.0]])
+    result = run([(3.0, 8.0)], [(0.3, 0.0)], radii=0.5, gravity=(0.0, -9.81), restitution=0.5, segments=vee,
+                 frame_dt=1 / 60, n_frames=600)
+    assert not result.budget_exceeded.any()
+    assert np.abs(result.positions[-1, 0] - [5.0, 2.0 + 0.5 * math.sqrt(2)]).max() <= 1e-12
+    assert np.all(result.velocities[-1] == 0.0)
+
+
+def test_budget_overrun_finishes_frames_safely():
+    positions, velocities, masses = random_gas(100, 25.0, 1.0, 20.0, seed=5)
+    result = run(positions, velocities, masses=masses, box=(0.0, 0.0, 25.0, 25.0), gravity=(0.0, -9.81),
+                 restitution=0.5, frame_dt=1 / 60, n_frames=30, max_events_per_frame=30)
+    assert result.budget_exceeded[1:].all() and not result.budget_exceeded[0]
+    assert result.positions.min() >= 1.0 and result.positions.max() <= 24.0
     assert np.isfinite(result.velocities).all()
 
 

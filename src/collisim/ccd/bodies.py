@@ -14,22 +14,28 @@ ever smaller bounces in a finite time (Zeno). Once a rebound would rise less
 than REST_HEIGHT × radius, the particle instead *rests* on that support (a box
 wall or a segment): its normal velocity is zeroed and the support cancels the
 normal part of gravity, so it slides along it with the tangential part of
-gravity. Any later collision releases it (then gravity acts again in full, and
-if it is still pressed into the support that contact is found at once).
+gravity. Sliding into a second support that it is pressed against (a corner,
+the bottom of a V) it is *wedged*: it stays put. A collision with a particle
+releases it (then gravity acts again in full, and if it is still pressed into
+the support that contact is found at once); so does a collision with an
+obstacle that gives it a velocity across its support.
 """
 from collections import namedtuple
 
 from numba import njit
 
-Bodies = namedtuple("Bodies", ["pos", "vel", "acc", "t_ref", "radius", "mass", "support", "counter", "horizon"])
+Bodies = namedtuple("Bodies", ["pos", "vel", "acc", "t_ref", "radius", "mass", "support", "wedge",
+                               "support_normal", "counter", "horizon"])
 Bodies.__doc__ = """pos, vel, acc (n, 2): state at t_ref (n,); radius, mass (n,).
-support (n,) int64: FREE, a wall index, or N_WALLS + segment index for a resting particle.
+support (n,) int64: FREE, a wall index, or N_WALLS + segment index for a resting particle;
+wedge (n,) int64: its second support when wedged, else FREE; support_normal (n, 2): the
+first support's unit normal, pointing at the particle.
 counter (n,) int64: events so far, to invalidate older predictions.
 horizon (n,) float64: time of the particle's next predicted one-particle event (wall, segment,
 cell crossing), after which all its predictions are redone anyway."""
 
-Scene = namedtuple("Scene", ["box", "segments", "gravity", "restitution"])
-Scene.__doc__ = """box (4,): xmin, ymin, xmax, ymax; segments (m, 4): x0, y0, x1, y1;
+Environment = namedtuple("Environment", ["box", "segments", "gravity", "restitution"])
+Environment.__doc__ = """box (4,): xmin, ymin, xmax, ymax; segments (m, 4): x0, y0, x1, y1;
 gravity (2,); restitution: e in [0, 1]."""
 
 FREE = -1
@@ -71,29 +77,53 @@ def wall_geometry(box, wall, radius):
 
 
 @njit(cache=True)
-def comes_to_rest(scene, radius, rebound_speed, nx, ny):
+def comes_to_rest(env, radius, rebound_speed, nx, ny):
     """Should a particle leaving a support (normal n, pointing at the particle) at
     rebound_speed rest on it instead? Only if gravity presses it into the support
     and the rebound would rise less than REST_HEIGHT × radius."""
-    pressing = -(scene.gravity[0] * nx + scene.gravity[1] * ny)
+    pressing = -(env.gravity[0] * nx + env.gravity[1] * ny)
     return pressing > 0.0 and rebound_speed * rebound_speed <= 2.0 * pressing * REST_HEIGHT * radius
 
 
 @njit(cache=True)
-def rest_on(bodies, scene, i, support, nx, ny):
-    """Particle i (current) rests on a support with unit normal n: no normal
-    velocity, and the normal part of gravity is cancelled."""
+def rest_on(bodies, env, i, support, nx, ny):
+    """Particle i (current) comes to rest on a support with unit normal n (pointing at
+    it): no normal velocity, and the normal part of gravity is cancelled. If it already
+    rests on another support and slides into this one, it is wedged: it stops."""
+    if bodies.support[i] != FREE:
+        if bodies.acc[i, 0] * nx + bodies.acc[i, 1] * ny < 0.0:
+            bodies.wedge[i] = support
+            bodies.vel[i, 0] = bodies.vel[i, 1] = bodies.acc[i, 0] = bodies.acc[i, 1] = 0.0
+        return
     vn = bodies.vel[i, 0] * nx + bodies.vel[i, 1] * ny
-    gn = scene.gravity[0] * nx + scene.gravity[1] * ny
+    gn = env.gravity[0] * nx + env.gravity[1] * ny
     bodies.vel[i, 0] -= vn * nx
     bodies.vel[i, 1] -= vn * ny
-    bodies.acc[i, 0] = scene.gravity[0] - gn * nx
-    bodies.acc[i, 1] = scene.gravity[1] - gn * ny
+    bodies.acc[i, 0] = env.gravity[0] - gn * nx
+    bodies.acc[i, 1] = env.gravity[1] - gn * ny
     bodies.support[i] = support
+    bodies.support_normal[i, 0], bodies.support_normal[i, 1] = nx, ny
 
 
 @njit(cache=True)
-def release(bodies, scene, i):
+def rests_on(bodies, i, support):
+    """Is particle i resting on this support (a wall index or N_WALLS + segment)?"""
+    return bodies.support[i] == support or bodies.wedge[i] == support
+
+
+@njit(cache=True)
+def release(bodies, env, i):
     """Particle i (current) no longer rests on anything: full gravity again."""
-    bodies.support[i] = FREE
-    bodies.acc[i, 0], bodies.acc[i, 1] = scene.gravity[0], scene.gravity[1]
+    bodies.support[i] = bodies.wedge[i] = FREE
+    bodies.acc[i, 0], bodies.acc[i, 1] = env.gravity[0], env.gravity[1]
+
+
+@njit(cache=True)
+def keep_or_release(bodies, env, i):
+    """After a collision with an obstacle: particle i keeps resting on its support only
+    if its velocity is still along it."""
+    if bodies.support[i] == FREE:
+        return
+    across = bodies.vel[i, 0] * bodies.support_normal[i, 0] + bodies.vel[i, 1] * bodies.support_normal[i, 1]
+    if abs(across) > 1e-12 * (abs(bodies.vel[i, 0]) + abs(bodies.vel[i, 1])):
+        release(bodies, env, i)

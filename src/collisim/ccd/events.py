@@ -19,12 +19,17 @@ per event stays constant as the number of particles grows.
 
 Guards. Only approaching contacts are impacts, so a pair that has just
 collided is never collided again at t + 0 by rounding, and overlapping pairs
-that separate are left alone. Simultaneous events are processed in a fixed
-order (kind, i, j). A particle that would bounce less than a billionth of its
-radius rests on its wall or segment instead (bodies.py). Anything else that
-needs more than `max_events_per_frame` events in one frame (Zeno behaviour)
-sets budget_exceeded[f] and the frame is finished by a discrete projection
-step (fallback.py), so a run never hangs and nothing leaves the box.
+that separate are left alone. Collisions at exactly the same time are solved
+together (resolve.py), so the result does not depend on their order and
+mirror-symmetric set-ups stay symmetric; everything else happens in the fixed
+order (time, kind, i, j). Zeno behaviour (infinitely many collisions in a
+finite time) is headed off where it usually starts: a particle that would
+bounce less than a billionth of its radius rests on its wall or segment
+(bodies.py), and contacts between particles under gravity never bounce lower
+than an invisible micro-bounce (resolve.py). Anything that still needs more
+than `max_events_per_frame` events in one frame sets budget_exceeded[f], and
+the frame is finished by a discrete projection step (fallback.py), so a run
+never hangs and nothing leaves the box.
 """
 from collections import namedtuple
 from typing import NamedTuple
@@ -32,7 +37,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from .bodies import N_WALLS, Bodies, Scene, advance, position_at, release, velocity_at
+from .bodies import FREE, N_WALLS, Bodies, Environment, advance, position_at, release, velocity_at
 from .eventqueue import CELL, PAIR, SEGMENT, WALL, is_current, key_parts, new_queue, pop, reserve
 from .fallback import finish_frame_discretely
 from .grid import assign_all, link, make_grid, unlink
@@ -89,7 +94,7 @@ def record(log, t, kind, i, j, impulse, x, y):
 
 
 @njit(cache=True)
-def reschedule(bodies, grid, scene, queue, particles, t, t_end, base, done):
+def reschedule(bodies, grid, env, queue, particles, t, t_end, base, done):
     """New predictions from time t for the (current) particles (k,) of an event.
 
     done (n,) bool is all False on entry and on return; it marks the particles whose
@@ -100,7 +105,7 @@ def reschedule(bodies, grid, scene, queue, particles, t, t_end, base, done):
         bodies.counter[i] += 1
     queue = reserve(queue, particles.shape[0], bodies.counter, base)
     for i in particles:
-        predict_solo(bodies, grid, scene, queue, i, t, t_end, base)
+        predict_solo(bodies, grid, env, queue, i, t, t_end, base)
     for i in particles:
         queue = reserve(queue, n, bodies.counter, base)
         predict_pairs(bodies, grid, queue, i, t, done, base)
@@ -110,31 +115,30 @@ def reschedule(bodies, grid, scene, queue, particles, t, t_end, base, done):
 
 
 @njit(cache=True)
-def schedule_all(bodies, grid, scene, queue, t, t_end, base, done):
+def schedule_all(bodies, grid, env, queue, t, t_end, base, done):
     """Forget every prediction and predict everything afresh from time t."""
     n = bodies.radius.shape[0]
     queue.size[0] = 0
     for i in range(n):
         advance(bodies, i, t)
     assign_all(grid, bodies.pos)
-    return reschedule(bodies, grid, scene, queue, np.arange(n), t, t_end, base, done)
+    return reschedule(bodies, grid, env, queue, np.arange(n), t, t_end, base, done)
 
 
 @njit(cache=True)
-def _involve(bodies, scene, i, t, involved, count, listed):
-    """Add particle i to the involved particles (once), brought to time t and released
-    from any support. Returns the new count."""
+def _involve(bodies, i, t, involved, count, listed):
+    """Add particle i to the involved particles (once), brought to time t. Returns the
+    new count."""
     if listed[i]:
         return count
     listed[i] = True
     advance(bodies, i, t)
-    release(bodies, scene, i)
     involved[count] = i
     return count + 1
 
 
 @njit(cache=True)
-def collect_collisions(bodies, scene, queue, contacts, t, key, base, involved, listed):
+def collect_collisions(bodies, env, queue, contacts, t, key, base, involved, listed):
     """Turn the collision `key` at time t (just popped) and every other current collision
     at exactly the same time into contacts, taking them off the queue. Fills involved
     with the particles concerned and returns their number."""
@@ -142,20 +146,24 @@ def collect_collisions(bodies, scene, queue, contacts, t, key, base, involved, l
     count = 0
     while True:
         kind, i, j = key_parts(key, base)
-        count = _involve(bodies, scene, i, t, involved, count, listed)
+        count = _involve(bodies, i, t, involved, count, listed)
         if kind == PAIR:
-            count = _involve(bodies, scene, j, t, involved, count, listed)
-            add_pair_contact(bodies, contacts, i, j)
+            count = _involve(bodies, j, t, involved, count, listed)
+            add_pair_contact(bodies, env, contacts, i, j)
         elif kind == WALL:
-            add_wall_contact(bodies, scene, contacts, i, j)
+            add_wall_contact(bodies, env, contacts, i, j)
         else:
-            add_segment_contact(bodies, scene, contacts, i, j)
+            add_segment_contact(bodies, env, contacts, i, j)
         while queue.size[0] > 0 and queue.time[0] == t and not is_current(queue, 0, bodies.counter, base):
             pop(queue)
         if (queue.size[0] == 0 or queue.time[0] != t or key_parts(queue.key[0], base)[0] > SEGMENT
                 or contacts.count[0] == contacts.kind.shape[0]):
             break
         key = pop(queue)[1]
+    for k in range(contacts.count[0]):
+        if contacts.j[k] >= 0:  # a collision with a particle ends resting; settle_resting may restore it
+            release(bodies, env, contacts.i[k])
+            release(bodies, env, contacts.j[k])
     listed[involved[:count]] = False
     return count
 
@@ -172,7 +180,7 @@ def record_contacts(log, contacts, t, frame_counts):
 
 
 @njit(cache=True)
-def apply_bookkeeping(bodies, grid, scene, kind, i, j, t):
+def apply_bookkeeping(bodies, grid, env, kind, i, j, t):
     """A cell crossing (move i to the next cell in direction j) or a slide off a segment's end."""
     advance(bodies, i, t)
     if kind == CELL:
@@ -180,7 +188,7 @@ def apply_bookkeeping(bodies, grid, scene, kind, i, j, t):
         unlink(grid, i)
         link(grid, i, destination)
     else:
-        release(bodies, scene, i)
+        release(bodies, env, i)
 
 
 @njit(cache=True)
@@ -192,15 +200,15 @@ def sample(bodies, t, positions, velocities):
 
 
 @njit(cache=True)
-def run(bodies, grid, scene, frame_dt, n_frames, budget, positions, velocities, counts, over_budget):
+def run(bodies, grid, env, frame_dt, n_frames, budget, positions, velocities, counts, over_budget):
     """The event loop. Fills positions, velocities (F, n, 2), counts (F, 3) per kind and
     over_budget (F,); returns the EventLog of collisions in processing order."""
     n = bodies.radius.shape[0]
-    base = max(n, scene.segments.shape[0], N_WALLS) + 1
+    base = max(n, env.segments.shape[0], N_WALLS) + 1
     t_end = n_frames * frame_dt
     done, listed, involved = np.zeros(n, np.bool_), np.zeros(n, np.bool_), np.empty(n, np.int64)
     contacts = new_contacts(4 * n + 16)
-    queue = schedule_all(bodies, grid, scene, new_queue(16 * (n + 1)), 0.0, t_end, base, done)
+    queue = schedule_all(bodies, grid, env, new_queue(16 * (n + 1)), 0.0, t_end, base, done)
     log = new_log(1024)
     sample(bodies, 0.0, positions[0], velocities[0])
     for f in range(1, n_frames + 1):
@@ -216,19 +224,19 @@ def run(bodies, grid, scene, frame_dt, n_frames, budget, positions, velocities, 
             t, key = pop(queue)[:2]
             kind, i, j = key_parts(key, base)
             if kind <= SEGMENT:
-                count = collect_collisions(bodies, scene, queue, contacts, t, key, base, involved, listed)
-                solve_contacts(bodies, scene.restitution, contacts)
-                settle_resting(bodies, scene, contacts)
+                count = collect_collisions(bodies, env, queue, contacts, t, key, base, involved, listed)
+                solve_contacts(bodies, contacts)
+                settle_resting(bodies, env, contacts)
                 log = record_contacts(log, contacts, t, counts[f])
                 processed += contacts.count[0]
             else:
-                apply_bookkeeping(bodies, grid, scene, kind, i, j, t)
+                apply_bookkeeping(bodies, grid, env, kind, i, j, t)
                 involved[0], count = i, 1
                 processed += 1
-            queue = reschedule(bodies, grid, scene, queue, involved[:count], t, t_end, base, done)
+            queue = reschedule(bodies, grid, env, queue, involved[:count], t, t_end, base, done)
         if over_budget[f]:
-            finish_frame_discretely(bodies, grid, scene, t_frame)
-            queue = schedule_all(bodies, grid, scene, queue, t_frame, t_end, base, done)
+            finish_frame_discretely(bodies, grid, env, t_frame)
+            queue = schedule_all(bodies, grid, env, queue, t_frame, t_end, base, done)
         sample(bodies, t_frame, positions[f], velocities[f])
     return log
 
@@ -260,18 +268,20 @@ def simulate_events(positions, velocities, gravity, radii, masses, box, restitut
     positions, velocities (n, 2); gravity (2,) the same for every particle; radii,
     masses (n,) > 0; box (xmin, ymin, xmax, ymax); restitution e in [0, 1]; segments
     (m, 4) rows (x0, y0, x1, y1) or None. Inputs are copied, never modified.
+    Returns a CCDResult; F = n_frames + 1 samples, the first one the initial state.
     """
     positions, velocities, gravity, radii, masses, box, segments = _checked_inputs(
         positions, velocities, gravity, radii, masses, box, segments)
-    if max_events_per_frame < 1 or n_frames < 0 or not frame_dt > 0:
-        raise ValueError("need max_events_per_frame >= 1, n_frames >= 0 and frame_dt > 0")
+    if max_events_per_frame < 1 or n_frames < 0 or not frame_dt > 0 or not 0.0 <= restitution <= 1.0:
+        raise ValueError("need max_events_per_frame >= 1, n_frames >= 0, frame_dt > 0 and 0 <= restitution <= 1")
     n, samples = len(positions), n_frames + 1
     bodies = Bodies(positions, velocities, np.tile(gravity, (n, 1)), np.zeros(n), radii, masses,
-                    np.full(n, -1, np.int64), np.zeros(n, np.int64), np.zeros(n))
-    scene = Scene(box, segments, gravity, float(restitution))
+                    np.full(n, FREE, np.int64), np.full(n, FREE, np.int64), np.zeros((n, 2)), np.zeros(n, np.int64),
+                    np.zeros(n))
+    env = Environment(box, segments, gravity, float(restitution))
     out_positions, out_velocities = np.empty((samples, n, 2)), np.empty((samples, n, 2))
     counts, over_budget = np.zeros((samples, 3), np.int64), np.zeros(samples, np.bool_)
-    log = run(bodies, make_grid(box, radii, segments), scene, float(frame_dt), int(n_frames),
+    log = run(bodies, make_grid(box, radii, segments), env, float(frame_dt), int(n_frames),
               int(max_events_per_frame), out_positions, out_velocities, counts, over_budget)
     k = log.size[0]
     time, kind, i, j = log.time[:k], log.kind[:k], log.i[:k], log.j[:k]

@@ -61,11 +61,11 @@ def _separate_pairs(bodies, grid):
 
 
 @njit(cache=True)
-def _push_out_of_segments(bodies, grid, scene):
+def _push_out_of_segments(bodies, grid, env):
     for i in range(bodies.radius.shape[0]):
         c = grid.cell[i]
         for k in range(grid.segment_start[c], grid.segment_start[c + 1]):
-            x0, y0, x1, y1 = scene.segments[grid.segment_index[k]]
+            x0, y0, x1, y1 = env.segments[grid.segment_index[k]]
             px, py = bodies.pos[i, 0], bodies.pos[i, 1]
             qx, qy, _ = closest_on_segment(px, py, x0, y0, x1, y1)
             nx, ny, distance = contact_normal(px, py, qx, qy, x0, y0, x1, y1)
@@ -78,10 +78,10 @@ def _push_out_of_segments(bodies, grid, scene):
 
 
 @njit(cache=True)
-def _keep_inside_box(bodies, scene):
+def _keep_inside_box(bodies, env):
     for i in range(bodies.radius.shape[0]):
         for axis in range(2):
-            lo, hi = scene.box[axis] + bodies.radius[i], scene.box[2 + axis] - bodies.radius[i]
+            lo, hi = env.box[axis] + bodies.radius[i], env.box[2 + axis] - bodies.radius[i]
             if bodies.pos[i, axis] <= lo:
                 bodies.pos[i, axis] = lo
                 bodies.vel[i, axis] = max(bodies.vel[i, axis], 0.0)
@@ -91,15 +91,14 @@ def _keep_inside_box(bodies, scene):
 
 
 @njit(cache=True)
-def finish_frame_discretely(bodies, grid, scene, t):
+def finish_frame_discretely(bodies, grid, env, t):
     """Bring every particle to time t in free flight, then project the state back
-    to a valid one (see the module docstring). Cell lists are left up to date."""
+    to a valid one (see the module docstring)."""
     for i in range(bodies.radius.shape[0]):
         advance(bodies, i, t)
-        release(bodies, scene, i)
+        release(bodies, env, i)
     for _ in range(PROJECTION_PASSES):
         assign_all(grid, bodies.pos)
         _separate_pairs(bodies, grid)
-        _push_out_of_segments(bodies, grid, scene)
-        _keep_inside_box(bodies, scene)
-    assign_all(grid, bodies.pos)
+        _push_out_of_segments(bodies, grid, env)
+        _keep_inside_box(bodies, env)

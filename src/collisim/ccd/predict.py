@@ -13,7 +13,7 @@ diameter and neither particle changes cell before its horizon.
 """
 from numba import njit
 
-from .bodies import N_WALLS, position_at, velocity_at, wall_geometry
+from .bodies import FREE, N_WALLS, position_at, rests_on, velocity_at, wall_geometry
 from .eventqueue import CELL, PAIR, SEGMENT, SLIDE_OFF, WALL, event_key, push
 from .grid import cell_bounds, neighbour_cells
 from .toi import time_to_point, time_to_segment, time_to_wall
@@ -51,13 +51,13 @@ def next_cell_crossing(bodies, grid, i, t_max):
 
 
 @njit(cache=True)
-def next_wall_hit(bodies, scene, i, t_max):
+def next_wall_hit(bodies, env, i, t_max):
     """(t, wall) of particle i's next box wall impact (not the wall it rests on)."""
     best_t, best_wall = t_max, -1
     for wall in range(N_WALLS):
-        if bodies.support[i] == wall:
+        if rests_on(bodies, i, wall):
             continue
-        axis, bound, inward = wall_geometry(scene.box, wall, bodies.radius[i])
+        axis, bound, inward = wall_geometry(env.box, wall, bodies.radius[i])
         t = time_to_wall(bodies.pos[i, axis], bodies.vel[i, axis], bodies.acc[i, axis], bound, -inward, best_t)
         if t < best_t:
             best_t, best_wall = t, wall
@@ -65,15 +65,15 @@ def next_wall_hit(bodies, scene, i, t_max):
 
 
 @njit(cache=True)
-def next_segment_hit(bodies, grid, scene, i, t_max):
+def next_segment_hit(bodies, grid, env, i, t_max):
     """(t, segment) of particle i's next impact with a segment near its cell."""
     best_t, best_segment = t_max, -1
     c = grid.cell[i]
     for k in range(grid.segment_start[c], grid.segment_start[c + 1]):
         s = grid.segment_index[k]
-        if bodies.support[i] == N_WALLS + s:
+        if rests_on(bodies, i, N_WALLS + s):
             continue
-        x0, y0, x1, y1 = scene.segments[s, 0], scene.segments[s, 1], scene.segments[s, 2], scene.segments[s, 3]
+        x0, y0, x1, y1 = env.segments[s, 0], env.segments[s, 1], env.segments[s, 2], env.segments[s, 3]
         t = time_to_segment(bodies.pos[i, 0], bodies.pos[i, 1], bodies.vel[i, 0], bodies.vel[i, 1],
                             bodies.acc[i, 0], bodies.acc[i, 1], bodies.radius[i], x0, y0, x1, y1, best_t)[0]
         if t < best_t:
@@ -82,14 +82,12 @@ def next_segment_hit(bodies, grid, scene, i, t_max):
 
 
 @njit(cache=True)
-def slide_off_time(bodies, scene, i, t_max):
-    """When particle i, resting on a segment, slides past one of its end points:
+def slide_off_time(bodies, env, i, t_max):
+    """When particle i, resting (not wedged) on a segment, slides past one of its end points:
     its coordinate along the segment leaves [0, length] (two 1D walls)."""
     s = bodies.support[i] - N_WALLS
-    if s < 0:
-        return t_max
-    x0, y0 = scene.segments[s, 0], scene.segments[s, 1]
-    ex, ey = scene.segments[s, 2] - x0, scene.segments[s, 3] - y0
+    x0, y0 = env.segments[s, 0], env.segments[s, 1]
+    ex, ey = env.segments[s, 2] - x0, env.segments[s, 3] - y0
     length = (ex * ex + ey * ey) ** 0.5
     ux, uy = ex / length, ey / length
     w = (bodies.pos[i, 0] - x0) * ux + (bodies.pos[i, 1] - y0) * uy
@@ -99,7 +97,7 @@ def slide_off_time(bodies, scene, i, t_max):
 
 
 @njit(cache=True)
-def predict_solo(bodies, grid, scene, queue, i, t_now, t_end, base):
+def predict_solo(bodies, grid, env, queue, i, t_now, t_end, base):
     """Queue particle i's next one-particle event and set its horizon.
 
     Particle i must be current (t_ref = t_now). Events after t_end are not queued.
@@ -108,12 +106,12 @@ def predict_solo(bodies, grid, scene, queue, i, t_now, t_end, base):
     best = (limit, CELL, -1)
     t, direction = next_cell_crossing(bodies, grid, i, limit)
     best = _earlier(t, CELL, direction, *best)
-    t, wall = next_wall_hit(bodies, scene, i, best[0])
+    t, wall = next_wall_hit(bodies, env, i, best[0])
     best = _earlier(t, WALL, wall, *best)
-    t, s = next_segment_hit(bodies, grid, scene, i, best[0])
+    t, s = next_segment_hit(bodies, grid, env, i, best[0])
     best = _earlier(t, SEGMENT, s, *best)
-    if bodies.support[i] >= N_WALLS:
-        best = _earlier(slide_off_time(bodies, scene, i, best[0]), SLIDE_OFF, bodies.support[i] - N_WALLS, *best)
+    if bodies.support[i] >= N_WALLS and bodies.wedge[i] == FREE:
+        best = _earlier(slide_off_time(bodies, env, i, best[0]), SLIDE_OFF, bodies.support[i] - N_WALLS, *best)
     t, kind, j = best
     if j >= 0:
         push(queue, t_now + t, event_key(kind, i, j, base), bodies.counter[i], -1)

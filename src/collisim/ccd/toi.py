@@ -138,14 +138,19 @@ def time_to_point(dx, dy, vx, vy, ax, ay, dist, t_max):
 
     Without acceleration this is time_to_pair (closed form). With it, the squared
     distance minus dist² is a quartic f(t); the impact is its first downward zero
-    crossing, found by monotone-piece isolation and bisection (polyroots) on
-    [0, t_max] — capped by Cauchy's bound on the roots, beyond which f > 0.
+    crossing, found by monotone-piece isolation and a bracketed Newton search
+    (polyroots) on [0, t_max] — capped by Cauchy's bound on the roots, beyond
+    which f > 0.
     """
     coeffs = contact_quartic(dx, dy, vx, vy, ax, ay, dist)
     if coeffs[4] == 0.0:  # no acceleration (or so little that its square underflows)
         return time_to_pair(dx, dy, vx, vy, dist, t_max)
     if coeffs[0] <= 0.0 and is_closing(coeffs[1], coeffs[2]):
         return 0.0
+    # Overlapping but not closing in: treat the overlap as touching (it is rounding,
+    # or an initial overlap), so the impact is when the distance comes back to what
+    # it is now, instead of the two sinking into each other.
+    coeffs[0] = max(coeffs[0], 0.0)
     root_bound = 1.0 + max(max(abs(coeffs[0]), abs(coeffs[1])), max(abs(coeffs[2]), abs(coeffs[3]))) / coeffs[4]
     t_hi = min(t_max, root_bound)
     # Cheap rejection: even heading straight for the point, it cannot get there.
@@ -185,12 +190,17 @@ def time_to_faces(px, py, vx, vy, ax, ay, r, x0, y0, x1, y1, t_max):
     rx, ry = px - x0, py - y0
     s, s_rate, s_acc = rx * nx + ry * ny, vx * nx + vy * ny, ax * nx + ay * ny
     w, w_rate, w_acc = rx * ux + ry * uy, vx * ux + vy * uy, ax * ux + ay * uy
+    t_best, side_best = np.inf, 0.0
     if abs(s) <= r and 0.0 <= w <= length:
-        # Already touching (or overlapping) the interior: an impact now if closing in.
+        # Already touching (or overlapping) the interior: an impact now if closing in;
+        # otherwise, as for a wall, the overlap counts as touching, and the impact is
+        # when the particle comes back to it.
         side = side_of_line(s, s_rate, s_acc)
         if is_closing(side * s_rate, side * s_acc):
             return 0.0, side * nx, side * ny
-    t_best, side_best = np.inf, 0.0
+        t = first_closing_time(0.0, side * s_rate, side * s_acc)
+        if t <= t_max and 0.0 <= w + (w_rate + 0.5 * w_acc * t) * t <= length:
+            t_best, side_best = t, side
     for side in (1.0, -1.0):
         t = first_closing_time(side * s - r, side * s_rate, side * s_acc)
         if t <= t_max and t < t_best and 0.0 <= w + (w_rate + 0.5 * w_acc * t) * t <= length:
