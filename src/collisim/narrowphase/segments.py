@@ -78,9 +78,3 @@ def _grown(array, capacity):
     out[:array.shape[0]] = array
     return out
 
-
-def collide_segments_events(positions, velocities, radii, masses, segments, restitution):
-    """collide_segments for the discrete engine: None when nothing was hit, otherwise
-    its (particle, segment, impulse, point) arrays."""
-    found = collide_segments(positions, velocities, radii, masses, segments, float(restitution))
-    return found if len(found[0]) else None
