@@ -142,8 +142,10 @@ def time_to_point(dx, dy, vx, vy, ax, ay, dist, t_max):
     (polyroots) on [0, t_max] — capped by Cauchy's bound on the roots, beyond
     which f > 0.
     """
+    if ax == 0.0 and ay == 0.0:  # pairs under one uniform gravity: the common case, in closed form
+        return time_to_pair(dx, dy, vx, vy, dist, t_max)
     coeffs = contact_quartic(dx, dy, vx, vy, ax, ay, dist)
-    if coeffs[4] == 0.0:  # no acceleration (or so little that its square underflows)
+    if coeffs[4] == 0.0:  # so little acceleration that its square underflows
         return time_to_pair(dx, dy, vx, vy, dist, t_max)
     if coeffs[0] <= 0.0 and is_closing(coeffs[1], coeffs[2]):
         return 0.0
