@@ -1,4 +1,4 @@
-"""The `collisim` command: list scenes, render them (more subcommands join here).
+"""The `collisim` command: list scenes, render them, compare methods, run the benchmarks.
 
 Bad input gives one line on stderr and exit status 2; never a traceback, never a partial file.
 """

@@ -93,12 +93,10 @@ class Scene:
         return dataclasses.replace(self, **changes)
 
     def with_options(self, *, fps=None, seconds=None, method=None, substeps=None,
-                     broadphase=None, restitution=None, size=None) -> "Scene":
+                     broadphase=None, restitution=None) -> "Scene":
         """Apply command-line style overrides. A panel scene keeps its panels' physics (they exist
-        to compare settings); its video fps, duration and size change."""
+        to compare settings); its video fps and duration change."""
         scene = self
-        if size is not None:
-            scene = scene.replace(render=dataclasses.replace(scene.render, size=tuple(size)))
         if fps is not None:
             scene = scene.replace(fps=fps)
         if seconds is not None:  # chapters keep their lengths: the video is cut or held
