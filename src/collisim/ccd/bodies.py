@@ -43,7 +43,7 @@ N_WALLS = 4  # 0 left, 1 right, 2 bottom, 3 top
 REST_HEIGHT = 1e-9
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def position_at(bodies, i, t):
     """(x, y) of particle i at time t."""
     dt = t - bodies.t_ref[i]
@@ -51,14 +51,14 @@ def position_at(bodies, i, t):
             bodies.pos[i, 1] + (bodies.vel[i, 1] + 0.5 * bodies.acc[i, 1] * dt) * dt)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def velocity_at(bodies, i, t):
     """(vx, vy) of particle i at time t."""
     dt = t - bodies.t_ref[i]
     return bodies.vel[i, 0] + bodies.acc[i, 0] * dt, bodies.vel[i, 1] + bodies.acc[i, 1] * dt
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def advance(bodies, i, t):
     """Move particle i's reference time to t."""
     bodies.pos[i, 0], bodies.pos[i, 1] = position_at(bodies, i, t)
@@ -66,7 +66,7 @@ def advance(bodies, i, t):
     bodies.t_ref[i] = t
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def wall_geometry(box, wall, radius):
     """(axis, bound, inward) of a wall: the coordinate axis it stops, the value of
     that coordinate for a centre touching it, and the sign of its inward normal."""
@@ -76,7 +76,7 @@ def wall_geometry(box, wall, radius):
     return axis, box[2 + axis] - radius, -1.0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def comes_to_rest(env, radius, rebound_speed, nx, ny):
     """Should a particle leaving a support (normal n, pointing at the particle) at
     rebound_speed rest on it instead? Only if gravity presses it into the support
@@ -85,7 +85,7 @@ def comes_to_rest(env, radius, rebound_speed, nx, ny):
     return pressing > 0.0 and rebound_speed * rebound_speed <= 2.0 * pressing * REST_HEIGHT * radius
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def rest_on(bodies, env, i, support, nx, ny):
     """Particle i (current) comes to rest on a support with unit normal n (pointing at
     it): no normal velocity, and the normal part of gravity is cancelled. If it already
@@ -105,20 +105,21 @@ def rest_on(bodies, env, i, support, nx, ny):
     bodies.support_normal[i, 0], bodies.support_normal[i, 1] = nx, ny
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def rests_on(bodies, i, support):
     """Is particle i resting on this support (a wall index or N_WALLS + segment)?"""
-    return bodies.support[i] == support or bodies.wedge[i] == support
+    first, second = bodies.support[i], bodies.wedge[i]
+    return first == support or second == support
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def release(bodies, env, i):
     """Particle i (current) no longer rests on anything: full gravity again."""
     bodies.support[i] = bodies.wedge[i] = FREE
     bodies.acc[i, 0], bodies.acc[i, 1] = env.gravity[0], env.gravity[1]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def keep_or_release(bodies, env, i):
     """After a collision with an obstacle: particle i keeps resting on its support only
     if its velocity is still along it."""

@@ -26,40 +26,40 @@ EventQueue.__doc__ = """time (c,) float64; key, count_i, count_j (c,) int64: a h
 size (1,) int64: the number of events in it. count_j is -1 for one-particle events."""
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def new_queue(capacity):
     """An empty queue with room for `capacity` events."""
     return EventQueue(np.empty(capacity), np.empty(capacity, np.int64), np.empty(capacity, np.int64),
                       np.empty(capacity, np.int64), np.zeros(1, np.int64))
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def event_key(kind, i, j, base):
     """Pack (kind, i, j), each of i, j < base, into an integer ordered like the tuple."""
     return (kind * base + i) * base + j
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def key_parts(key, base):
     """(kind, i, j) from event_key."""
     return key // (base * base), (key // base) % base, key % base
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def is_current(queue, slot, counters, base):
     """Were the counters of the event's particles unchanged since it was predicted?"""
-    i = key_parts(queue.key[slot], base)[1]
-    if queue.count_i[slot] != counters[i]:
-        return False
-    return queue.count_j[slot] < 0 or queue.count_j[slot] == counters[queue.key[slot] % base]
+    kind, i, j = key_parts(queue.key[slot], base)
+    count_i, count_j = queue.count_i[slot], queue.count_j[slot]
+    return count_i == counters[i] and (count_j < 0 or count_j == counters[j])
 
 
-@njit(cache=True)
-def _earlier(queue, a, b):
-    return queue.time[a] < queue.time[b] or (queue.time[a] == queue.time[b] and queue.key[a] < queue.key[b])
+@njit(cache=True, error_model="numpy")
+def _before(time_a, key_a, time_b, key_b):
+    """Does event a come before event b? By time, ties by key."""
+    return time_a < time_b or (time_a == time_b and key_a < key_b)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _swap(queue, a, b):
     queue.time[a], queue.time[b] = queue.time[b], queue.time[a]
     queue.key[a], queue.key[b] = queue.key[b], queue.key[a]
@@ -67,23 +67,25 @@ def _swap(queue, a, b):
     queue.count_j[a], queue.count_j[b] = queue.count_j[b], queue.count_j[a]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _sift_up(queue, slot):
+    time, key = queue.time, queue.key
     while slot > 0:
         parent = (slot - 1) // 2
-        if not _earlier(queue, slot, parent):
+        if not _before(time[slot], key[slot], time[parent], key[parent]):
             return
         _swap(queue, slot, parent)
         slot = parent
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _sift_down(queue, slot):
+    time, key = queue.time, queue.key
     size = queue.size[0]
     while True:
         first = slot
         for child in (2 * slot + 1, 2 * slot + 2):
-            if child < size and _earlier(queue, child, first):
+            if child < size and _before(time[child], key[child], time[first], key[first]):
                 first = child
         if first == slot:
             return
@@ -91,7 +93,7 @@ def _sift_down(queue, slot):
         slot = first
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def push(queue, time, key, count_i, count_j):
     """Add an event; the caller has reserved room for it."""
     slot = queue.size[0]
@@ -101,7 +103,7 @@ def push(queue, time, key, count_i, count_j):
     _sift_up(queue, slot)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def pop(queue):
     """Remove the earliest event and return it as (time, key, count_i, count_j)."""
     top = (queue.time[0], queue.key[0], queue.count_i[0], queue.count_j[0])
@@ -112,7 +114,7 @@ def pop(queue):
     return top
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def reserve(queue, extra, counters, base):
     """A queue with room for `extra` more events: the same one, or one with the
     out-of-date events dropped, or a larger copy."""

@@ -30,6 +30,20 @@ than an invisible micro-bounce (resolve.py). Anything that still needs more
 than `max_events_per_frame` events in one frame sets budget_exceeded[f], and
 the frame is finished by a discrete projection step (fallback.py), so a run
 never hangs and nothing leaves the box.
+
+Compiled code. Every function of the package is compiled by numba with
+error_model="numpy": a division by zero gives inf or nan, as in NumPy, instead
+of raising (every such case is guarded anyway, so results are the same). That
+is for speed. The state travels as namedtuples of arrays (Bodies, CellGrid,
+EventQueue), and when a function hands one to a callee that may raise, or uses
+it again after a branch, numba updates the reference count of every array in
+it around the call — more work than most of the arithmetic of an event. (Only
+allocating can still raise: the queue growing, the quartic root finder.) So the
+functions run at every event read the numbers they need out of a tuple before
+branching (bodies.rests_on, eventqueue.is_current), compare heap entries as
+plain numbers (eventqueue._before), allocate nothing (grid.neighbour_block), and
+call the segment test, whose quartics allocate, only where there are segments
+(predict.predict_solo).
 """
 from collections import namedtuple
 from typing import NamedTuple
@@ -70,14 +84,14 @@ class CCDResult(NamedTuple):
 EventLog = namedtuple("EventLog", ["time", "kind", "i", "j", "impulse", "point", "size"])
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def new_log(capacity):
     """An empty collision record with room for `capacity` entries."""
     return EventLog(np.empty(capacity), np.empty(capacity, np.int8), np.empty(capacity, np.intp),
                     np.empty(capacity, np.intp), np.empty(capacity), np.empty((capacity, 2)), np.zeros(1, np.int64))
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def record(log, t, kind, i, j, impulse, x, y):
     """Append a collision; returns the log (a larger copy when it was full)."""
     k = log.size[0]
@@ -93,28 +107,30 @@ def record(log, t, kind, i, j, impulse, x, y):
     return log
 
 
-@njit(cache=True)
-def reschedule(bodies, grid, env, queue, particles, t, t_end, base, done):
-    """New predictions from time t for the (current) particles (k,) of an event.
+@njit(cache=True, error_model="numpy")
+def reschedule(bodies, grid, env, queue, particles, count, t, t_end, base, done):
+    """New predictions from time t for the (current) particles particles[:count] of an event.
 
     done (n,) bool is all False on entry and on return; it marks the particles whose
     pairs are predicted already, so that no pair is queued twice.
     """
     n = bodies.radius.shape[0]
-    for i in particles:
-        bodies.counter[i] += 1
-    queue = reserve(queue, particles.shape[0], bodies.counter, base)
-    for i in particles:
-        predict_solo(bodies, grid, env, queue, i, t, t_end, base)
-    for i in particles:
-        queue = reserve(queue, n, bodies.counter, base)
-        predict_pairs(bodies, grid, queue, i, t, done, base)
-        done[i] = True
-    done[particles] = False
+    counter = bodies.counter
+    for k in range(count):
+        counter[particles[k]] += 1
+    queue = reserve(queue, count, counter, base)
+    for k in range(count):
+        predict_solo(bodies, grid, env, queue, particles[k], t, t_end, base)
+    for k in range(count):
+        queue = reserve(queue, n, counter, base)
+        predict_pairs(bodies, grid, queue, particles[k], t, done, base)
+        done[particles[k]] = True
+    for k in range(count):
+        done[particles[k]] = False
     return queue
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def schedule_all(bodies, grid, env, queue, t, t_end, base, done):
     """Forget every prediction and predict everything afresh from time t."""
     n = bodies.radius.shape[0]
@@ -122,10 +138,10 @@ def schedule_all(bodies, grid, env, queue, t, t_end, base, done):
     for i in range(n):
         advance(bodies, i, t)
     assign_all(grid, bodies.pos)
-    return reschedule(bodies, grid, env, queue, np.arange(n), t, t_end, base, done)
+    return reschedule(bodies, grid, env, queue, np.arange(n), n, t, t_end, base, done)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _involve(bodies, i, t, involved, count, listed):
     """Add particle i to the involved particles (once), brought to time t. Returns the
     new count."""
@@ -137,7 +153,7 @@ def _involve(bodies, i, t, involved, count, listed):
     return count + 1
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def collect_collisions(bodies, env, queue, contacts, t, key, base, involved, listed):
     """Turn the collision `key` at time t (just popped) and every other current collision
     at exactly the same time into contacts, taking them off the queue. Fills involved
@@ -168,7 +184,7 @@ def collect_collisions(bodies, env, queue, contacts, t, key, base, involved, lis
     return count
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def record_contacts(log, contacts, t, frame_counts):
     """Log the contacts that delivered an impulse and count them by kind."""
     for k in range(contacts.count[0]):
@@ -179,7 +195,7 @@ def record_contacts(log, contacts, t, frame_counts):
     return log
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def apply_bookkeeping(bodies, grid, env, kind, i, j, t):
     """A cell crossing (move i to the next cell in direction j) or a slide off a segment's end."""
     advance(bodies, i, t)
@@ -191,7 +207,7 @@ def apply_bookkeeping(bodies, grid, env, kind, i, j, t):
         release(bodies, env, i)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def sample(bodies, t, positions, velocities):
     """Write every particle's state at time t into positions, velocities (n, 2)."""
     for i in range(bodies.radius.shape[0]):
@@ -199,7 +215,7 @@ def sample(bodies, t, positions, velocities):
         velocities[i, 0], velocities[i, 1] = velocity_at(bodies, i, t)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def run(bodies, grid, env, frame_dt, n_frames, budget, positions, velocities, counts, over_budget):
     """The event loop. Fills positions, velocities (F, n, 2), counts (F, 3) per kind and
     over_budget (F,); returns the EventLog of collisions in processing order."""
@@ -233,7 +249,7 @@ def run(bodies, grid, env, frame_dt, n_frames, budget, positions, velocities, co
                 apply_bookkeeping(bodies, grid, env, kind, i, j, t)
                 involved[0], count = i, 1
                 processed += 1
-            queue = reschedule(bodies, grid, env, queue, involved[:count], t, t_end, base, done)
+            queue = reschedule(bodies, grid, env, queue, involved, count, t, t_end, base, done)
         if over_budget[f]:
             finish_frame_discretely(bodies, grid, env, t_frame)
             queue = schedule_all(bodies, grid, env, queue, t_frame, t_end, base, done)
@@ -285,7 +301,9 @@ def simulate_events(positions, velocities, gravity, radii, masses, box, restitut
               int(max_events_per_frame), out_positions, out_velocities, counts, over_budget)
     k = log.size[0]
     time, kind, i, j = log.time[:k], log.kind[:k], log.i[:k], log.j[:k]
-    order = np.lexsort((j, i, kind, time))
+    order = np.arange(k)
+    if k > 1 and not np.all(time[1:] > time[:-1]):  # simultaneous collisions: put them in (kind, i, j) order
+        order = np.lexsort((j, i, kind, time))
     return CCDResult(out_positions, out_velocities, time[order], kind[order], i[order], j[order],
                      log.impulse[:k][order], log.point[:k][order], counts[:, WALL].copy(), counts[:, PAIR].copy(),
                      counts[:, SEGMENT].copy(), over_budget)

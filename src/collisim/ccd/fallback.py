@@ -21,12 +21,12 @@ from numba import njit
 
 from .bodies import advance, release
 from .geometry import closest_on_segment, contact_normal
-from .grid import assign_all, neighbour_cells
+from .grid import assign_all, neighbour_block
 
 PROJECTION_PASSES = 4
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _separate(bodies, i, j):
     """Push an overlapping pair apart to contact, and stop them approaching."""
     dx, dy = bodies.pos[j, 0] - bodies.pos[i, 0], bodies.pos[j, 1] - bodies.pos[i, 1]
@@ -49,18 +49,20 @@ def _separate(bodies, i, j):
         bodies.vel[j, 1] += share_j * approach * ny
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _separate_pairs(bodies, grid):
     for i in range(bodies.radius.shape[0]):
-        for c in neighbour_cells(grid, grid.cell[i]):
-            j = grid.head[c]
-            while j >= 0:
-                if j > i:
-                    _separate(bodies, i, j)
-                j = grid.next[j]
+        cx_lo, cx_hi, cy_lo, cy_hi = neighbour_block(grid, grid.cell[i])
+        for cy in range(cy_lo, cy_hi):
+            for cx in range(cx_lo, cx_hi):
+                j = grid.head[cy * grid.nx + cx]
+                while j >= 0:
+                    if j > i:
+                        _separate(bodies, i, j)
+                    j = grid.next[j]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _push_out_of_segments(bodies, grid, env):
     for i in range(bodies.radius.shape[0]):
         c = grid.cell[i]
@@ -77,7 +79,7 @@ def _push_out_of_segments(bodies, grid, env):
                     bodies.vel[i, 1] -= vn * ny
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _keep_inside_box(bodies, env):
     for i in range(bodies.radius.shape[0]):
         for axis in range(2):
@@ -90,7 +92,7 @@ def _keep_inside_box(bodies, env):
                 bodies.vel[i, axis] = min(bodies.vel[i, axis], 0.0)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def finish_frame_discretely(bodies, grid, env, t):
     """Bring every particle to time t in free flight, then project the state back
     to a valid one (see the module docstring)."""

@@ -4,7 +4,7 @@ import math
 from numba import njit
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def closest_on_segment(px, py, x0, y0, x1, y1):
     """The point of segment (x0, y0)-(x1, y1) closest to (px, py): (qx, qy, u), where
     u in [0, 1] is its fraction along the segment (0 or 1 at an end point)."""
@@ -14,7 +14,7 @@ def closest_on_segment(px, py, x0, y0, x1, y1):
     return x0 + u * ex, y0 + u * ey, u
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def contact_normal(px, py, qx, qy, x0, y0, x1, y1):
     """Unit normal (nx, ny, distance) from the point q of a segment towards p. When p
     lies on the segment (distance 0) the segment's own normal is used."""

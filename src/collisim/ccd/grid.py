@@ -51,7 +51,7 @@ def make_grid(box, radii, segments):
     return grid._replace(segment_start=start, segment_index=index)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _clip_fraction(denominator, numerator, lo, hi):
     """One Liang–Barsky step: narrow the parameter range [lo, hi] of a segment by
     the half-plane denominator * u <= numerator. Returns (lo, hi), empty if lo > hi."""
@@ -63,7 +63,7 @@ def _clip_fraction(denominator, numerator, lo, hi):
     return lo, min(hi, u)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _segment_meets_rect(x0, y0, x1, y1, left, bottom, right, top):
     """Does the segment (x0, y0)-(x1, y1) intersect the rectangle? (Liang–Barsky)"""
     dx, dy = x1 - x0, y1 - y0
@@ -74,7 +74,7 @@ def _segment_meets_rect(x0, y0, x1, y1, left, bottom, right, top):
     return lo <= hi
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _register_segments(grid, segments, reach):
     """CSR lists (start, index) of the segments within `reach` of each cell."""
     cells = grid.nx * grid.ny
@@ -93,7 +93,7 @@ def _register_segments(grid, segments, reach):
     return start, index
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def cell_bounds(grid, c):
     """(left, bottom, right, top) of cell c."""
     cx, cy = c % grid.nx, c // grid.nx
@@ -101,7 +101,7 @@ def cell_bounds(grid, c):
     return left, bottom, left + grid.cell_w, bottom + grid.cell_h
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def cell_at(grid, x, y):
     """The cell holding point (x, y); points outside the box go to the nearest cell."""
     cx = min(max(int((x - grid.x0) // grid.cell_w), 0), grid.nx - 1)
@@ -109,7 +109,7 @@ def cell_at(grid, x, y):
     return cy * grid.nx + cx
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def link(grid, i, c):
     """Put particle i (in no list) at the front of cell c's list."""
     first = grid.head[c]
@@ -120,7 +120,7 @@ def link(grid, i, c):
     grid.cell[i] = c
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def unlink(grid, i):
     """Take particle i out of its cell's list."""
     before, after = grid.prev[i], grid.next[i]
@@ -133,7 +133,7 @@ def unlink(grid, i):
     grid.cell[i] = -1
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def assign_all(grid, positions):
     """Rebuild every cell list from positions (n, 2), particles in index order."""
     grid.head[:] = -1
@@ -141,14 +141,11 @@ def assign_all(grid, positions):
         link(grid, i, cell_at(grid, positions[i, 0], positions[i, 1]))
 
 
-@njit(cache=True)
-def neighbour_cells(grid, c):
-    """The cells of the 3 × 3 block around cell c (fewer at the box edges), as an array."""
+@njit(cache=True, error_model="numpy")
+def neighbour_block(grid, c):
+    """The 3 × 3 block of cells around cell c (smaller at the box edges), as column and
+    row ranges (cx_lo, cx_hi, cy_lo, cy_hi): its cells are cy * nx + cx for cy in
+    range(cy_lo, cy_hi), cx in range(cx_lo, cx_hi). (Plain numbers rather than an
+    array of cells: this is asked for at every event, and an array would be allocated.)"""
     cx, cy = c % grid.nx, c // grid.nx
-    out = np.empty(9, np.int64)
-    count = 0
-    for ny in range(max(cy - 1, 0), min(cy + 2, grid.ny)):
-        for nx in range(max(cx - 1, 0), min(cx + 2, grid.nx)):
-            out[count] = ny * grid.nx + nx
-            count += 1
-    return out[:count]
+    return max(cx - 1, 0), min(cx + 2, grid.nx), max(cy - 1, 0), min(cy + 2, grid.ny)

@@ -25,7 +25,7 @@ from numba import njit
 MAX_ITERATIONS = 2200
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def evaluate(coeffs, t):
     """p(t) by Horner's rule. coeffs: (k+1,) lowest order first."""
     value = 0.0
@@ -34,7 +34,7 @@ def evaluate(coeffs, t):
     return value
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def derivative(coeffs):
     """Coefficients (k,) of p' for coeffs (k+1,); a constant's derivative is (0,)."""
     out = np.zeros(max(coeffs.shape[0] - 1, 1))
@@ -43,7 +43,7 @@ def derivative(coeffs):
     return out
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def refine_root(coeffs, slopes, lo, hi):
     """The root of p in [lo, hi], given that p(lo) and p(hi) have opposite signs
     (one may be 0); slopes are the coefficients of p'. Safeguarded Newton."""
@@ -71,7 +71,7 @@ def refine_root(coeffs, slopes, lo, hi):
     return t
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def split_at_sign_changes(coeffs, slopes, breaks):
     """Refine sorted breakpoints (k,) by the roots of p on each piece where p is monotone.
 
@@ -89,7 +89,7 @@ def split_at_sign_changes(coeffs, slopes, breaks):
     return out[:count + 1]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def monotone_pieces(coeffs, lo, hi):
     """Sorted breakpoints lo = b[0] <= ... <= b[-1] = hi with p monotone on each piece.
 
@@ -109,7 +109,7 @@ def monotone_pieces(coeffs, lo, hi):
     return breaks
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def first_down_crossing(coeffs, lo, hi):
     """Earliest t in (lo, hi] where p goes from > 0 to <= 0, or inf if p never does."""
     breaks = monotone_pieces(coeffs, lo, hi)

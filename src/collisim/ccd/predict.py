@@ -15,11 +15,11 @@ from numba import njit
 
 from .bodies import FREE, N_WALLS, position_at, rests_on, velocity_at, wall_geometry
 from .eventqueue import CELL, PAIR, SEGMENT, SLIDE_OFF, WALL, event_key, push
-from .grid import cell_bounds, neighbour_cells
+from .grid import cell_bounds, neighbour_block
 from .toi import time_to_point, time_to_segment, time_to_wall
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _earlier(t, kind, j, best_t, best_kind, best_j):
     """The earlier of two candidate events (t, kind, j); ties go to (kind, j).
     A candidate with j = -1 is "nothing found"."""
@@ -28,16 +28,16 @@ def _earlier(t, kind, j, best_t, best_kind, best_j):
     return best_t, best_kind, best_j
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def next_cell_crossing(bodies, grid, i, t_max):
     """(t, direction) of particle i's exit from its cell, t relative to its t_ref.
     Directions 0 -x, 1 +x, 2 -y, 3 +y; the box's outer sides are walls, not exits."""
     c = grid.cell[i]
     cx, cy = c % grid.nx, c // grid.nx
     left, bottom, right, top = cell_bounds(grid, c)
-    x, y = bodies.pos[i]
-    vx, vy = bodies.vel[i]
-    ax, ay = bodies.acc[i]
+    x, y = bodies.pos[i, 0], bodies.pos[i, 1]
+    vx, vy = bodies.vel[i, 0], bodies.vel[i, 1]
+    ax, ay = bodies.acc[i, 0], bodies.acc[i, 1]
     best_t, best_direction = t_max, -1
     exits = ((cx > 0, x, vx, ax, left, -1.0), (cx < grid.nx - 1, x, vx, ax, right, 1.0),
              (cy > 0, y, vy, ay, bottom, -1.0), (cy < grid.ny - 1, y, vy, ay, top, 1.0))
@@ -50,7 +50,7 @@ def next_cell_crossing(bodies, grid, i, t_max):
     return best_t, best_direction
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def next_wall_hit(bodies, env, i, t_max):
     """(t, wall) of particle i's next box wall impact (not the wall it rests on)."""
     best_t, best_wall = t_max, -1
@@ -64,7 +64,7 @@ def next_wall_hit(bodies, env, i, t_max):
     return best_t, best_wall
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def next_segment_hit(bodies, grid, env, i, t_max):
     """(t, segment) of particle i's next impact with a segment near its cell."""
     best_t, best_segment = t_max, -1
@@ -81,7 +81,7 @@ def next_segment_hit(bodies, grid, env, i, t_max):
     return best_t, best_segment
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def slide_off_time(bodies, env, i, t_max):
     """When particle i, resting (not wedged) on a segment, slides past one of its end points:
     its coordinate along the segment leaves [0, length] (two 1D walls)."""
@@ -96,7 +96,7 @@ def slide_off_time(bodies, env, i, t_max):
     return min(time_to_wall(w, w_rate, w_acc, 0.0, -1.0, t_max), time_to_wall(w, w_rate, w_acc, length, 1.0, t_max))
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def predict_solo(bodies, grid, env, queue, i, t_now, t_end, base):
     """Queue particle i's next one-particle event and set its horizon.
 
@@ -108,8 +108,10 @@ def predict_solo(bodies, grid, env, queue, i, t_now, t_end, base):
     best = _earlier(t, CELL, direction, *best)
     t, wall = next_wall_hit(bodies, env, i, best[0])
     best = _earlier(t, WALL, wall, *best)
-    t, s = next_segment_hit(bodies, grid, env, i, best[0])
-    best = _earlier(t, SEGMENT, s, *best)
+    c = grid.cell[i]
+    if grid.segment_start[c + 1] > grid.segment_start[c]:  # only call it when there are segments to test
+        t, s = next_segment_hit(bodies, grid, env, i, best[0])
+        best = _earlier(t, SEGMENT, s, *best)
     if bodies.support[i] >= N_WALLS and bodies.wedge[i] == FREE:
         best = _earlier(slide_off_time(bodies, env, i, best[0]), SLIDE_OFF, bodies.support[i] - N_WALLS, *best)
     t, kind, j = best
@@ -118,24 +120,26 @@ def predict_solo(bodies, grid, env, queue, i, t_now, t_end, base):
     bodies.horizon[i] = t_now + t
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def predict_pairs(bodies, grid, queue, i, t_now, done, base):
     """Queue particle i's collisions with the particles of its 3 × 3 block, each up to
     the earlier of the two horizons, skipping the particles j with done[j] (whose pairs
     were just predicted). i must be current."""
-    xi, yi = bodies.pos[i]
-    vxi, vyi = bodies.vel[i]
-    axi, ayi = bodies.acc[i]
-    for c in neighbour_cells(grid, grid.cell[i]):
-        j = grid.head[c]
-        while j >= 0:
-            if j != i and not done[j]:
-                xj, yj = position_at(bodies, j, t_now)
-                vxj, vyj = velocity_at(bodies, j, t_now)
-                t_max = min(bodies.horizon[i], bodies.horizon[j]) - t_now
-                t = time_to_point(xj - xi, yj - yi, vxj - vxi, vyj - vyi, bodies.acc[j, 0] - axi,
-                                  bodies.acc[j, 1] - ayi, bodies.radius[i] + bodies.radius[j], t_max)
-                if t <= t_max:
-                    lo, hi = min(i, j), max(i, j)
-                    push(queue, t_now + t, event_key(PAIR, lo, hi, base), bodies.counter[lo], bodies.counter[hi])
-            j = grid.next[j]
+    xi, yi = bodies.pos[i, 0], bodies.pos[i, 1]
+    vxi, vyi = bodies.vel[i, 0], bodies.vel[i, 1]
+    axi, ayi = bodies.acc[i, 0], bodies.acc[i, 1]
+    cx_lo, cx_hi, cy_lo, cy_hi = neighbour_block(grid, grid.cell[i])
+    for cy in range(cy_lo, cy_hi):
+        for cx in range(cx_lo, cx_hi):
+            j = grid.head[cy * grid.nx + cx]
+            while j >= 0:
+                if j != i and not done[j]:
+                    xj, yj = position_at(bodies, j, t_now)
+                    vxj, vyj = velocity_at(bodies, j, t_now)
+                    t_max = min(bodies.horizon[i], bodies.horizon[j]) - t_now
+                    t = time_to_point(xj - xi, yj - yi, vxj - vxi, vyj - vyi, bodies.acc[j, 0] - axi,
+                                      bodies.acc[j, 1] - ayi, bodies.radius[i] + bodies.radius[j], t_max)
+                    if t <= t_max:
+                        lo, hi = min(i, j), max(i, j)
+                        push(queue, t_now + t, event_key(PAIR, lo, hi, base), bodies.counter[lo], bodies.counter[hi])
+                j = grid.next[j]

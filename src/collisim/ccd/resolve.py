@@ -64,7 +64,7 @@ SWEEP_TOLERANCE = 1e-15
 MAX_SWEEPS = 100
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def new_contacts(capacity):
     """Room for `capacity` simultaneous contacts."""
     return Contacts(np.empty(capacity, np.int64), np.empty(capacity, np.int64), np.empty(capacity, np.int64),
@@ -73,7 +73,7 @@ def new_contacts(capacity):
                     np.empty(capacity, np.bool_), np.zeros(1, np.int64))
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _rebound_speed(env, approach, pressing, radius, can_rest):
     """The separation speed a contact should have after the collision (module docstring)."""
     if can_rest:
@@ -86,7 +86,7 @@ def _rebound_speed(env, approach, pressing, radius, can_rest):
     return rebound
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _add(bodies, env, contacts, kind, i, j, other, nx, ny, x, y, can_rest):
     """Append a contact of particle i (current, with its acceleration before the contact)."""
     k = contacts.count[0]
@@ -107,7 +107,7 @@ def _add(bodies, env, contacts, kind, i, j, other, nx, ny, x, y, can_rest):
     contacts.count[0] = k + 1
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def add_wall_contact(bodies, env, contacts, i, wall):
     """Particle i (current) touches box wall `wall`; it is put exactly on the wall."""
     radius = bodies.radius[i]
@@ -118,7 +118,7 @@ def add_wall_contact(bodies, env, contacts, i, wall):
     _add(bodies, env, contacts, WALL, i, -1, wall, nx, ny, x, y, True)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def add_segment_contact(bodies, env, contacts, i, s):
     """Particle i (current) touches segment s; it is put exactly at contact distance."""
     x0, y0, x1, y1 = env.segments[s]
@@ -130,7 +130,7 @@ def add_segment_contact(bodies, env, contacts, i, s):
     _add(bodies, env, contacts, SEGMENT, i, -1, s, -nx, -ny, qx, qy, 0.0 < u < 1.0)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def add_pair_contact(bodies, env, contacts, i, j):
     """Particles i and j (current) touch."""
     dx, dy = bodies.pos[j, 0] - bodies.pos[i, 0], bodies.pos[j, 1] - bodies.pos[i, 1]
@@ -141,7 +141,7 @@ def add_pair_contact(bodies, env, contacts, i, j):
          False)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _apply(bodies, contacts, k, change):
     """Add `change` to contact k's impulse, updating the velocities."""
     i, j = contacts.i[k], contacts.j[k]
@@ -154,7 +154,7 @@ def _apply(bodies, contacts, k, change):
     contacts.impulse[k] += change
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def solve_contacts(bodies, contacts):
     """Impulses for all contacts at once (projected Gauss-Seidel, see module docstring)."""
     count = contacts.count[0]
@@ -182,7 +182,7 @@ def solve_contacts(bodies, contacts):
             return
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def settle_resting(bodies, env, contacts):
     """After a collision with an obstacle, a resting particle may leave its support; and a
     particle that leaves a wall or segment too slowly to matter rests on it instead."""
