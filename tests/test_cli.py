@@ -181,3 +181,4 @@ def test_scenes_render_with_either_method(cli, tmp_path, scene):
                      "--no-progress", "--out", out)
         assert result.returncode == 0, result.stderr
         assert decode_video(out)[:3] == (15, 160, 90)
+

@@ -5,6 +5,7 @@ Bad input gives one line on stderr and exit status 2; never a traceback, never a
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import time
 import warnings
@@ -206,6 +207,9 @@ def main(argv=None) -> int:
         except KeyboardInterrupt:
             print("collisim: interrupted; no file written", file=sys.stderr)
             status = 130
+        except BrokenPipeError:  # the reader (e.g. `head`) stopped reading: stop quietly
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+            status = 0
         for warning in caught:
             print(f"collisim: note: {warning.message}", file=sys.stderr)
     return status
