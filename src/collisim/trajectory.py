@@ -61,7 +61,8 @@ class Trajectory:
     candidates: (F,)   broad-phase candidate pairs of the last step of each frame
     radii, masses: (n,)
     events: every collision, for pressure, flashes and measurements
-    profile: seconds spent per phase (integrate, broad, narrow, response, walls or events)
+    profile: seconds spent per phase (integrate, broad, narrow, response, walls, settle; step when
+             fused; events for ccd)
     """
     times: np.ndarray
     positions: np.ndarray

@@ -8,6 +8,8 @@ One step of dt reads as the pipeline (each block is timed into the profile):
     response      elastic impulses, then overlap removal, in sorted pair order
     barriers      thin segments
     walls         the box
+    settle        a wall bounce may push a particle back into its partner: separate this
+                  step's contacts again and keep every circle in the box (positions only)
 
 A frame is k substeps of dt/k. With one particle there are no pairs, and no pair phase runs.
 With the grid broad phase and no profile wanted, the same kernels run fused in one compiled
@@ -18,12 +20,12 @@ from __future__ import annotations
 import numpy as np
 
 from ..narrowphase.circles import touching_pairs
-from ..response.elastic import resolve_contacts
+from ..response.elastic import resolve_contacts, separate_contacts
 from ..trajectory import PAIR, SEGMENT, WALL, Events
 from .block import FrameBlock
 from .integrate import integrate
 from .profile import Profile
-from .walls import collide_walls
+from .walls import clamp_into_box, collide_walls
 
 
 class DiscreteStepper:
@@ -76,9 +78,9 @@ class DiscreteStepper:
         profile.start()
         integrate(self.positions, self.velocities, w.accelerations, self.dt)
         profile.lap("integrate")
-        candidates = 0
+        candidates, contacts = 0, None
         if self.broad is not None:
-            candidates = self._collide_pairs(hits, events, time)
+            candidates, contacts = self._collide_pairs(hits, events, time)
         if self._segment_collider is not None:
             hits[2] += self._segment_collider(self.positions, self.velocities, events, time)
             profile.lap("barriers")
@@ -89,6 +91,10 @@ class DiscreteStepper:
             events.append(Events(np.full(count, time), np.full(count, WALL, np.int8), particle, wall, impulse, point))
         hits[0] += wall_hits
         profile.lap("walls")
+        if contacts is not None and len(contacts):
+            separate_contacts(self.positions, w.masses, w.radii, contacts)
+            clamp_into_box(self.positions, w.radii, w.box)
+            profile.lap("settle")
         return candidates
 
     def _collide_pairs(self, hits, events, time) -> int:
@@ -108,7 +114,7 @@ class DiscreteStepper:
                                  contacts[hit, 0].copy(), contacts[hit, 1].copy(), impulse[hit], point[hit]))
         hits[1] += collisions
         profile.lap("response")
-        return len(candidates)
+        return len(candidates), contacts
 
 
 def _broad_phase(method: str):

@@ -2,7 +2,7 @@
 
 The phased pipeline in discrete.py calls one kernel per phase from Python and times each
 phase; at a thousand particles those calls cost more than the work. Here the same kernels
-(integrate, grid broad phase, narrow phase, response, walls) run in the same order inside
+(integrate, grid broad phase, narrow phase, response, walls, settle) run in the same order inside
 one numba function for a whole block of frames, on a uniform grid laid once over the world's
 box (particles never leave it). Contacts are sorted into the same (i, j) order as the phased
 pipeline, and events are recorded in the same form, so both give identical bytes. The engine
@@ -15,11 +15,11 @@ from numba import njit
 
 from ..broadphase.grid import bin_boxes, grid_pairs
 from ..narrowphase.circles import touching_pairs
-from ..response.elastic import resolve_contacts
+from ..response.elastic import resolve_contacts, separate_contacts
 from ..trajectory import PAIR, WALL, Events
 from .block import FrameBlock
 from .integrate import integrate
-from .walls import collide_walls
+from .walls import clamp_into_box, collide_walls
 
 
 def box_grid(box, radii) -> tuple:
@@ -103,6 +103,9 @@ def run_frames(positions, velocities, accelerations, radii, masses, box, restitu
             walls, wall_hits = collide_walls(positions, velocities, accelerations, radii, masses, box, restitution,
                                              wall_particle, wall_side, wall_impulse, wall_point)
             hits[frame, 0] += wall_hits
+            if contacts.shape[0] > 0:
+                separate_contacts(positions, masses, radii, contacts)
+                clamp_into_box(positions, radii, box)
             # record this step's events: pairs that got an impulse, then walls
             need = k + contacts.shape[0] + walls
             time, kind, first, second = _grown(time, need), _grown(kind, need), _grown(first, need), _grown(second, need)

@@ -85,3 +85,13 @@ def collide_walls(positions, velocities, accelerations, radii, masses, box, rest
                     events += 1
                     hits += bounces
     return events, hits
+
+
+@njit(cache=True)
+def clamp_into_box(positions, radii, box):
+    """Put every circle back inside the box, positions only (after overlap removal may have
+    pushed one a little past a wall). positions: (n, 2); radii: (n,)."""
+    for i in range(positions.shape[0]):
+        for axis in range(2):
+            low, high = box[axis] + radii[i], box[axis + 2] - radii[i]
+            positions[i, axis] = min(max(positions[i, axis], low), high)

@@ -56,11 +56,34 @@ def resolve_contacts(positions, velocities, masses, radii, contacts, restitution
             collisions += 1
         event_point[c, 0] = positions[i, 0] + nx * radii[i]
         event_point[c, 1] = positions[i, 1] + ny * radii[i]
-        overlap = radii[i] + radii[j] - distance
-        if overlap > 0.0:
-            share_i = inv_i / (inv_i + inv_j)
-            positions[i, 0] -= overlap * share_i * nx
-            positions[i, 1] -= overlap * share_i * ny
-            positions[j, 0] += overlap * (1.0 - share_i) * nx
-            positions[j, 1] += overlap * (1.0 - share_i) * ny
+        _push_apart(positions, masses, i, j, nx, ny, radii[i] + radii[j] - distance)
     return collisions
+
+
+@njit(cache=True)
+def _push_apart(positions, masses, i, j, nx, ny, overlap):
+    """Move i and j apart along the unit normal (nx, ny) by `overlap`, split by inverse mass."""
+    if overlap <= 0.0:
+        return
+    inv_i, inv_j = 1.0 / masses[i], 1.0 / masses[j]
+    share_i = inv_i / (inv_i + inv_j)
+    positions[i, 0] -= overlap * share_i * nx
+    positions[i, 1] -= overlap * share_i * ny
+    positions[j, 0] += overlap * (1.0 - share_i) * nx
+    positions[j, 1] += overlap * (1.0 - share_i) * ny
+
+
+@njit(cache=True)
+def separate_contacts(positions, masses, radii, contacts):
+    """Remove overlaps left among this step's contacts (k, 2), positions only, in order.
+
+    A wall bounce after the response can push a particle back into the partner it was just
+    separated from; this second pass takes it out again. No velocity changes.
+    """
+    for c in range(contacts.shape[0]):
+        i, j = contacts[c, 0], contacts[c, 1]
+        nx = positions[j, 0] - positions[i, 0]
+        ny = positions[j, 1] - positions[i, 1]
+        distance = math.sqrt(nx * nx + ny * ny)
+        if distance > 0.0:
+            _push_apart(positions, masses, i, j, nx / distance, ny / distance, radii[i] + radii[j] - distance)
