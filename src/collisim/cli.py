@@ -11,7 +11,7 @@ import time
 import warnings
 from pathlib import Path
 
-from .engine.profile import Profile
+from .engine.profile import profile_table
 from .scene import QUALITY_SIZES, available_scenes, describe_scene_file, load_scene
 
 
@@ -91,6 +91,7 @@ def cmd_list(args) -> int:
 
 def cmd_render(args) -> int:
     from .render import render
+    from .render.video import output_size
 
     scene = load_scene(args.scene).with_options(
         fps=args.fps, seconds=args.seconds, method=args.method, substeps=args.substeps,
@@ -98,28 +99,16 @@ def cmd_render(args) -> int:
     suffix = ".png" if args.png is not None else ".mp4"
     out = args.out or Path("renders") / f"{scene.name}{suffix}"
     profile = {} if args.profile else None
+    width, height = output_size(scene, args.size, args.quality)
     start = time.perf_counter()
-    path = render(scene, out, args.size, codec=args.codec, quality=args.quality, png_frame=args.png,
+    path = render(scene, out, (width, height), codec=args.codec, quality=args.quality, png_frame=args.png,
                   progress=not args.no_progress, profile=profile, phases=args.profile)
     seconds = time.perf_counter() - start
     what = f"frame {args.png}" if args.png is not None else f"{scene.frames} frames at {scene.fps:g} fps, {args.codec}"
-    print(f"{path}: {what}, {_size_of(path)}, {seconds:.1f} s")
+    print(f"{path}: {what}, {width}x{height}, {seconds:.1f} s")
     if profile:
-        table = Profile()
-        table.seconds = profile
-        print(table.table())
+        print(profile_table(profile))
     return 0
-
-
-def _size_of(path: Path) -> str:
-    import cv2
-    if path.suffix == ".png":
-        height, width = cv2.imread(str(path)).shape[:2]
-    else:
-        capture = cv2.VideoCapture(str(path))
-        width, height = int(capture.get(cv2.CAP_PROP_FRAME_WIDTH)), int(capture.get(cv2.CAP_PROP_FRAME_HEIGHT))
-        capture.release()
-    return f"{width}x{height}"
 
 
 def cmd_bench(args) -> int:

@@ -17,10 +17,12 @@ class Profile:
         self.seconds[phase] = self.seconds.get(phase, 0.0) + now - self._last
         self._last = now
 
-    def table(self) -> str:
-        total = sum(self.seconds.values()) or 1.0
-        rows = [f"{'phase':<10} {'seconds':>9} {'share':>6}"]
-        for phase, seconds in self.seconds.items():
-            rows.append(f"{phase:<10} {seconds:9.4f} {seconds / total:6.1%}")
-        rows.append(f"{'total':<10} {sum(self.seconds.values()):9.4f}")
-        return "\n".join(rows)
+
+def profile_table(seconds_per_phase: dict) -> str:
+    """Seconds and share of the total per phase, one row each."""
+    total = sum(seconds_per_phase.values()) or 1.0
+    rows = [f"{'phase':<10} {'seconds':>9} {'share':>6}"]
+    for phase, seconds in seconds_per_phase.items():
+        rows.append(f"{phase:<10} {seconds:9.4f} {seconds / total:6.1%}")
+    rows.append(f"{'total':<10} {sum(seconds_per_phase.values()):9.4f}")
+    return "\n".join(rows)

@@ -35,14 +35,7 @@ def resolve_contacts(positions, velocities, masses, radii, contacts, restitution
     collisions = 0
     for c in range(contacts.shape[0]):
         i, j = contacts[c, 0], contacts[c, 1]
-        nx = positions[j, 0] - positions[i, 0]
-        ny = positions[j, 1] - positions[i, 1]
-        distance = math.sqrt(nx * nx + ny * ny)
-        if distance > 0.0:
-            nx /= distance
-            ny /= distance
-        else:  # coincident centres have no line of centres: pick x, deterministically
-            nx, ny = 1.0, 0.0
+        nx, ny, distance = _line_of_centres(positions, i, j)
         inv_i, inv_j = 1.0 / masses[i], 1.0 / masses[j]
         approach = (velocities[j, 0] - velocities[i, 0]) * nx + (velocities[j, 1] - velocities[i, 1]) * ny
         event_impulse[c] = 0.0
@@ -58,6 +51,18 @@ def resolve_contacts(positions, velocities, masses, radii, contacts, restitution
         event_point[c, 1] = positions[i, 1] + ny * radii[i]
         _push_apart(positions, masses, i, j, nx, ny, radii[i] + radii[j] - distance)
     return collisions
+
+
+@njit(cache=True)
+def _line_of_centres(positions, i, j):
+    """(nx, ny, distance): the unit normal from i to j and the distance between the centres.
+    Coincident centres have no line of centres: x is picked, deterministically."""
+    nx = positions[j, 0] - positions[i, 0]
+    ny = positions[j, 1] - positions[i, 1]
+    distance = math.sqrt(nx * nx + ny * ny)
+    if distance == 0.0:
+        return 1.0, 0.0, 0.0
+    return nx / distance, ny / distance, distance
 
 
 @njit(cache=True)
@@ -82,8 +87,6 @@ def separate_contacts(positions, masses, radii, contacts):
     """
     for c in range(contacts.shape[0]):
         i, j = contacts[c, 0], contacts[c, 1]
-        nx = positions[j, 0] - positions[i, 0]
-        ny = positions[j, 1] - positions[i, 1]
-        distance = math.sqrt(nx * nx + ny * ny)
+        nx, ny, distance = _line_of_centres(positions, i, j)
         if distance > 0.0:
-            _push_apart(positions, masses, i, j, nx / distance, ny / distance, radii[i] + radii[j] - distance)
+            _push_apart(positions, masses, i, j, nx, ny, radii[i] + radii[j] - distance)
