@@ -3,6 +3,7 @@ import numpy as np
 
 import collisim
 from collisim import palette
+from collisim.model.kinds import SEGMENT
 from collisim.render import raster
 
 RADIUS = 0.3
@@ -35,21 +36,23 @@ def head_on_world():
                           colors=colors)
 
 
-def missed_barrier(traj):
-    side = np.sign(traj.positions[:, :, 0] - 5.0)
-    return np.concatenate([[0], np.cumsum(np.sum(side[1:] != side[:-1], axis=1))])
+def barrier_crossings(before, after):
+    """Particles whose centre went from one side of the barrier to the other between two
+    samples: each is a collision the method missed."""
+    return int(np.sum(np.sign(before.positions[:, 0] - 5.0) != np.sign(after.positions[:, 0] - 5.0)))
 
 
-def missed_pairs(traj):
-    n = traj.positions.shape[1] // 2
-    order = np.sign(traj.positions[:, n:, 0] - traj.positions[:, :n, 0])
-    return np.concatenate([[0], np.cumsum(np.sum(order[1:] != order[:-1], axis=1))])
+def pair_swaps(before, after):
+    """Head-on pairs (particle k and k + n) whose left-right order swapped between two samples."""
+    n = len(before.positions) // 2
+    order = lambda state: np.sign(state.positions[n:, 0] - state.positions[:n, 0])  # noqa: E731
+    return int(np.sum(order(before) != order(after)))
 
 
-def counter(missed, label):
+def counter(label):
     def overlay(canvas, view, state):
         x, y = view.to_pixels([BOX[0], BOX[3]])
-        count = int(missed[state.sample])
+        count = state.counters["missed"]
         color = palette.HIGHLIGHT if count else palette.PARTICLES[2]
         raster.draw_text(canvas, f"missed {label}: {count}", (x + 8, y + 20), scale=0.45, color_rgb=color)
     return overlay
@@ -57,14 +60,13 @@ def counter(missed, label):
 
 def comparison_panels(seconds):
     panels = []
-    for make_world, count_missed, label in ((barrier_world, missed_barrier, "barrier hits"),
-                                            (head_on_world, missed_pairs, "pair collisions")):
+    for make_world, count_missed, label in ((barrier_world, barrier_crossings, "barrier hits"),
+                                            (head_on_world, pair_swaps, "pair collisions")):
         for method, substeps, title in METHODS:
+            settings = collisim.RenderSettings(trails=6, overlay=counter(label), counters={"missed": count_missed})
             scene = collisim.Scene(world=make_world(), fps=60, seconds=seconds, method=method,
-                                   substeps=substeps, broadphase="brute")
-            missed = count_missed(collisim.simulate(scene))
-            settings = collisim.RenderSettings(trails=6, overlay=counter(missed, label))
-            panels.append(collisim.Panel(scene.replace(render=settings), title))
+                                   substeps=substeps, broadphase="brute", render=settings)
+            panels.append(collisim.Panel(scene, title))
     return panels
 
 
@@ -84,7 +86,7 @@ def explanation_world():
                           segments=[[0.0, FLOOR, 9.0, FLOOR]])
 
 
-def explanation_overlay(world, found_t_c):
+def explanation_overlay(world):
     p0 = world.positions[0].copy()
     v = world.velocities[0]
     p1 = p0 + v                                   # where discrete motion puts it one frame later
@@ -104,18 +106,22 @@ def explanation_overlay(world, found_t_c):
             raster.draw_text(canvas, text, (x + view.length(BIG * 1.15), y + 5), scale=size, color_rgb=palette.TEXT)
         for k, line in enumerate(["p(t) = (1 - t) p0 + t p1     linear interpolation over the frame",
                                   "y(t_c) = floor + r          the constraint: solve it for t_c",
-                                  f"after t_c, v_y flips: the path mirrors   (engine found t_c = {found_t_c:.4f})"]):
+                                  "after t_c, v_y flips: the path mirrors" + found_by_engine(state)]):
             x, y = view.to_pixels([0.3, -2.3 - 0.38 * k])
             raster.draw_text(canvas, line, (x, y), scale=size, color_rgb=palette.TEXT)
     return overlay
 
 
+def found_by_engine(state):
+    """The engine's own t_c, read from the trajectory's events once the impact has happened."""
+    hits = state.events.time[state.events.kind == SEGMENT]
+    return f"   (engine found t_c = {hits[0]:.4f})" if len(hits) else ""
+
+
 def explanation(seconds=6.0):
     world = explanation_world()
-    scene = collisim.Scene(world=world, fps=EXPLAIN_FPS, seconds=seconds, method="ccd")
-    found_t_c = collisim.simulate(scene).events.time[0]   # the first impact, found by the engine
-    settings = collisim.RenderSettings(overlay=explanation_overlay(world, found_t_c), hud=True, flash=False)
-    scene = scene.replace(render=settings)
+    settings = collisim.RenderSettings(overlay=explanation_overlay(world), hud=True, flash=False)
+    scene = collisim.Scene(world=world, fps=EXPLAIN_FPS, seconds=seconds, method="ccd", render=settings)
     return collisim.Scene(panels=[collisim.Panel(scene, "continuous detection: solve for the time of collision")],
                           fps=60, seconds=seconds)
 

@@ -29,6 +29,24 @@ def decode_video(path):
             stream.codec_context.pix_fmt
 
 
+def statics_step(positions, velocities, radii, masses, box, segments=None, restitution=1.0, accelerations=None):
+    """One statics phase of the discrete step (segments, then walls) on raw arrays, in place:
+    returns (collisions (3,) wall, pair, segment, Events)."""
+    from collisim.engine.discrete import Bodies, Statics, statics_phase, statics_scratch
+    from collisim.engine.eventlog import log_events, new_log
+    from collisim.statics import build_segment_index
+    n = len(positions)
+    segments = np.zeros((0, 4)) if segments is None else np.asarray(segments, float).reshape(-1, 4)
+    box = np.asarray(box, float)
+    accelerations = np.zeros((n, 2)) if accelerations is None else np.asarray(accelerations, float)
+    bodies = Bodies(np.zeros(n, np.int8), positions, velocities, np.zeros(n), np.zeros(n), accelerations,
+                    np.asarray(radii, float), np.asarray(masses, float))
+    statics = Statics(box, segments, build_segment_index(segments, box), float(restitution))
+    counts = np.zeros(3, np.int64)
+    log = statics_phase(bodies, statics, statics_scratch(len(segments)), new_log(4), 0.0, counts)
+    return counts, log_events(log)
+
+
 @pytest.fixture
 def rng():
     return np.random.default_rng(12345)

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 import collisim
-from collisim.bench import accuracy
-from collisim.bench.workloads import WORKLOADS, mean_radii_per_frame, packing_fraction
+from collisim.analysis.bench import accuracy
+from collisim.analysis.bench.workloads import WORKLOADS, mean_radii_per_frame, packing_fraction
 
 
 def smallest_gap(world) -> float:

@@ -5,7 +5,8 @@ import numpy as np
 import pytest
 
 import collisim
-from collisim.ccd import simulate_events
+from collisim.analysis import metrics
+from collisim.engine.ccd import simulate_events
 
 
 def one_particle(velocity, method, gravity=(0.0, 0.0), seconds=1.0, position=(5.0, 5.0), box=(0, 0, 10, 10)):
@@ -31,7 +32,7 @@ def test_ccd_keeps_the_apex_to_1e9_over_100_bounces():
     g = 9.81
     # a drop from 5 - 0.5 = 4.5 above the floor contact: one bounce every 2·sqrt(2h/g) ≈ 1.92 s
     traj = one_particle([0.0, 0.0], "ccd", gravity=(0, -g), seconds=195.0)
-    assert traj.wall_hits.sum() >= 100
+    assert traj.wall_collisions.sum() >= 100
     apex = apex_heights(traj, g)
     np.testing.assert_allclose(apex, np.full_like(apex, 5.0), rtol=1e-9)
 
@@ -45,7 +46,7 @@ def test_discrete_bounce_height_is_bounded_by_the_frame_sampling():
     drift = np.abs(apex - 5.0).max()
     assert drift < 1e-9 * 5.0   # measured ~1e-14: the reflection makes and loses no energy
     heights = traj.positions[:, 0, 1]
-    between = np.split(heights, np.flatnonzero(traj.wall_hits) )[1:-1]
+    between = np.split(heights, np.flatnonzero(traj.wall_collisions) )[1:-1]
     sampled_apex = np.array([segment.max() for segment in between if len(segment)])
     assert len(sampled_apex) >= 99
     # a frame lands within dt/2 of the true apex: the sampled apex is at most g(dt/2)²/2 low
@@ -71,7 +72,7 @@ def test_ccd_gas_conserves_energy_and_never_overlaps(gas):
         reach = traj.radii[pairs[:, 0]] + traj.radii[pairs[:, 1]]
         worst = max(worst, np.max((reach - d) / traj.radii[pairs].min(axis=1), initial=0.0))
     assert worst <= 1e-9
-    assert traj.pair_hits.sum() > 1000 and len(traj.events) == traj.collisions.sum()
+    assert traj.pair_collisions.sum() > 1000 and len(traj.events) == traj.collisions.sum()
 
 
 def test_ccd_events_carry_impulses_that_give_the_wall_pressure(gas):
@@ -91,7 +92,7 @@ def test_ccd_events_carry_impulses_that_give_the_wall_pressure(gas):
     eta = np.pi * np.sum(traj.radii ** 2) / ((xmax - xmin) * (ymax - ymin))
     henderson = (1 + eta ** 2 / 8) / (1 - eta) ** 2
     expected = traj.kinetic_energy()[0] / area * henderson
-    assert traj.wall_pressure(scene.world.box) == pytest.approx(expected, rel=0.05)
+    assert metrics.wall_pressure(traj) == pytest.approx(expected, rel=0.05)
 
 
 def test_ccd_blocks_lose_nothing_at_block_boundaries(gas):
@@ -105,7 +106,7 @@ def test_ccd_blocks_lose_nothing_at_block_boundaries(gas):
     # about tenfold per 4 frames here, so the comparison stops 6 frames later)
     np.testing.assert_array_equal(traj.positions[:64], whole.positions[:64])
     np.testing.assert_allclose(traj.positions[:71], whole.positions, rtol=0, atol=1e-12)
-    assert traj.pair_hits[:71].sum() == whole.pair_counts.sum()
+    assert traj.pair_collisions[:71].sum() == whole.pair_collisions.sum()
 
 
 def test_ccd_same_input_same_bytes():
@@ -121,7 +122,7 @@ def test_ccd_momentum_is_conserved_without_walls():
     world = collisim.World(positions=positions, velocities=rng.normal(0, 2, (n, 2)),
                            radii=rng.uniform(0.5, 1.2, n), box=(0, 0, 1000, 1000))
     traj = collisim.simulate(collisim.Scene(world=world, fps=60, seconds=5.0, method="ccd"))
-    assert traj.pair_hits.sum() > 20 and traj.wall_hits.sum() == 0
+    assert traj.pair_collisions.sum() > 20 and traj.wall_collisions.sum() == 0
     p = traj.momentum()
     scale = np.sum(world.masses * np.hypot(*world.velocities.T))
     assert np.abs(p - p[0]).max() <= 1e-12 * scale

@@ -4,7 +4,7 @@ import math
 import numpy as np
 import pytest
 
-from collisim.ccd.events import simulate_events
+from collisim.engine.ccd.events import simulate_events
 
 NO_GRAVITY = (0.0, 0.0)
 
@@ -72,7 +72,7 @@ def test_gas_conserves_energy_without_overlap_or_escape():
                  frame_dt=1 / 60, n_frames=600)
     energy = 0.5 * (masses * (result.velocities ** 2).sum(-1)).sum(-1)
     assert np.abs(energy / energy[0] - 1).max() <= 1e-10
-    assert result.pair_counts.sum() > 5000 and result.wall_counts.sum() > 500
+    assert result.pair_collisions.sum() > 5000 and result.wall_collisions.sum() > 500
     i, j = np.triu_indices(250, 1)
     for chunk in np.array_split(result.positions, 12):
         distance = np.hypot(*(chunk[:, i] - chunk[:, j]).transpose(2, 0, 1))
@@ -89,7 +89,7 @@ def test_momentum_is_conserved_by_pair_collisions():
     masses = rng.uniform(0.5, 3.0, 12)
     result = run(positions, velocities, radii=0.8, masses=masses, box=(-1e3, -1e3, 1e3, 1e3), frame_dt=0.1,
                  n_frames=30)
-    assert result.wall_counts.sum() == 0 and result.pair_counts.sum() >= 10
+    assert result.wall_collisions.sum() == 0 and result.pair_collisions.sum() >= 10
     momentum = (masses[:, None] * result.velocities).sum(1)
     scale = (masses[:, None] * np.abs(velocities)).sum()
     assert np.abs(momentum - momentum[0]).max() <= 1e-12 * scale
@@ -102,12 +102,12 @@ def test_newtons_cradle_passes_the_velocity_to_the_last_ball():
     final = result.velocities[-1]
     assert np.abs(final[:5]).max() <= 1e-12
     assert np.abs(final[5] - [1.0, 0.0]).max() <= 1e-12
-    assert result.pair_counts.sum() == 5
+    assert result.pair_collisions.sum() == 5
 
 
 def test_overlapping_pairs_collide_only_when_approaching():
     separating = run([(4.0, 5.0), (5.5, 5.0)], [(-1.0, 0.0), (1.0, 0.0)], n_frames=2)
-    assert separating.pair_counts.sum() == 0
+    assert separating.pair_collisions.sum() == 0
     approaching = run([(4.0, 5.0), (5.5, 5.0)], [(1.0, 0.0), (-1.0, 0.0)], n_frames=2)
     times, _, _ = events_of(approaching, 1)
     assert list(times) == [0.0]
@@ -125,7 +125,7 @@ def test_simultaneous_mirrored_hits_stay_mirror_symmetric(offset):
         positions, velocities = [(-3.0, offset), (0.0, 0.0), (-3.0, -offset)], [(1.0, 0.0), (0.0, 0.0), (1.0, 0.0)]
         mirror = np.array([1.0, -1.0])
     result = run(positions, velocities, radii=0.5, box=(-50.0, -50.0, 50.0, 50.0), frame_dt=0.5, n_frames=8)
-    assert result.pair_counts.sum() == 2
+    assert result.pair_collisions.sum() == 2
     for sample in (result.positions, result.velocities):
         assert np.abs(sample[:, 0] * mirror - sample[:, 2]).max() <= 1e-12
         assert np.abs(sample[:, 1] * mirror - sample[:, 1]).max() <= 1e-12
@@ -136,7 +136,7 @@ def test_simultaneous_mirrored_hits_stay_mirror_symmetric(offset):
 def test_bouncing_ball_keeps_its_apex_height():
     g, apex = 100.0, 1.0
     result = run([(5.0, 1.0 + apex)], [(0.0, 0.0)], gravity=(0.0, -g), frame_dt=0.05, n_frames=600)
-    assert result.wall_counts.sum() >= 100
+    assert result.wall_collisions.sum() >= 100
     height = result.positions[:, 0, 1] - 1.0 + result.velocities[:, 0, 1] ** 2 / (2 * g)
     assert np.abs(height / apex - 1).max() <= 1e-9
 
@@ -146,7 +146,7 @@ def test_very_fast_particle_stays_in_the_box():
     result = run([(5.0, 5.0)], [(speed * math.cos(0.3), speed * math.sin(0.3))], radii=0.5, frame_dt=1 / 60,
                  n_frames=60)
     assert result.positions.min() >= 0.5 and result.positions.max() <= 9.5
-    assert result.wall_counts.sum() > 100_000
+    assert result.wall_collisions.sum() > 100_000
     assert np.abs(np.hypot(*result.velocities[-1, 0]) / speed - 1) < 1e-12
 
 
@@ -154,7 +154,7 @@ def test_fast_particles_never_cross_a_thin_segment():
     wall = np.array([[5.0, 0.0, 5.0, 10.0]])
     result = run([(2.0, 5.0), (8.0, 3.0)], [(1e5 * math.cos(0.7), 1e5 * math.sin(0.7)), (-3e4, 2e4)],
                  radii=[0.3, 0.2], gravity=(0.0, -9.81), segments=wall, frame_dt=1 / 60, n_frames=60)
-    assert result.segment_counts.sum() > 1000
+    assert result.segment_collisions.sum() > 1000
     assert result.positions[:, 0, 0].max() <= 5.0 - 0.3 * (1 - 1e-9)
     assert result.positions[:, 1, 0].min() >= 5.0 + 0.2 * (1 - 1e-9)
 
@@ -171,7 +171,7 @@ def test_ball_rests_on_a_ramp_slides_off_and_rests_on_the_floor():
     result = run([(2.0, 8.0)], [(0.0, 0.0)], radii=0.5, gravity=(0.0, -9.81), restitution=0.5, segments=ramp,
                  frame_dt=1 / 60, n_frames=300)
     assert not result.budget_exceeded.any()
-    assert result.segment_counts.sum() >= 1
+    assert result.segment_collisions.sum() >= 1
     assert result.positions[-1, 0, 1] == 0.5 and result.velocities[-1, 0, 1] == 0.0
 
 

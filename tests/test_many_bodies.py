@@ -10,7 +10,7 @@ from collisim.broadphase import METHODS
 
 def digest(traj) -> str:
     h = hashlib.sha256()
-    for array in (traj.positions, traj.velocities, traj.wall_hits, traj.pair_hits):
+    for array in (traj.positions, traj.velocities, traj.wall_collisions, traj.pair_collisions):
         h.update(np.ascontiguousarray(array).tobytes())
     return h.hexdigest()
 
@@ -33,7 +33,7 @@ def test_every_broad_phase_gives_identical_trajectory_bytes(gas_scene, reference
 
 
 def test_the_gas_collides_conserves_energy_and_stays_in_the_box(gas_scene, reference):
-    assert reference.pair_hits.sum() > 500 and reference.wall_hits.sum() > 100
+    assert reference.pair_collisions.sum() > 500 and reference.wall_collisions.sum() > 100
     ke = reference.kinetic_energy()
     # elastic impulses and overlap removal change no kinetic energy
     np.testing.assert_allclose(ke, np.full_like(ke, ke[0]), rtol=1e-12)
@@ -52,13 +52,13 @@ def test_same_input_same_bytes(gas_scene):
 def test_one_particle_runs_no_pair_phase():
     world = collisim.World(positions=[[5, 5]], velocities=[[1, 2]])
     traj = collisim.simulate(collisim.Scene(world=world, seconds=0.5))
-    assert "broad" not in traj.profile and traj.broadphase == ""
-    assert {"integrate", "walls"} <= set(traj.profile)
+    assert traj.profile.get("broad", 0.0) == 0.0 and traj.broadphase == ""
+    assert {"integrate", "statics"} <= set(traj.profile)
 
 
 def test_profile_records_every_phase_of_a_many_body_step(gas_scene):
     traj = collisim.simulate(gas_scene.replace(seconds=0.25))
-    assert {"integrate", "broad", "narrow", "response", "walls"} <= set(traj.profile)
+    assert {"integrate", "broad", "narrow", "response", "statics", "settle"} <= set(traj.profile)
     assert all(seconds >= 0 for seconds in traj.profile.values())
 
 
@@ -69,10 +69,11 @@ def test_render_cli_with_broadphase_substeps_restitution_and_profile(cli, tmp_pa
                  "--substeps", "2", "--restitution", "0.9", "--profile", "--no-progress", "--out", out)
     assert result.returncode == 0, result.stderr
     assert decode_video(out)[:3] == (30, 320, 180)
-    for phase in ("integrate", "broad", "narrow", "response", "walls", "draw", "encode"):
+    for phase in ("integrate", "broad", "narrow", "response", "statics", "draw", "encode"):
         assert phase in result.stdout
     bad = cli("render", "particles_250", "--broadphase", "octree", "--out", tmp_path / "x.mp4")
-    assert bad.returncode == 2 and "unknown broad phase 'octree'" in bad.stderr
+    assert bad.returncode == 2 and "'octree'" in bad.stderr and "sweep_prune" in bad.stderr
+    assert len(bad.stderr.strip().splitlines()) == 1
 
 
 def test_bench_broadphase_writes_csv_and_chart_with_reference_lines(cli, tmp_path):

@@ -1,26 +1,29 @@
-"""collisim.metrics on trajectories built by hand, where every answer is known."""
+"""collisim.analysis.metrics on trajectories built by hand, where every answer is known."""
 import numpy as np
 import pytest
 from scipy import stats
 
 import collisim
-from collisim import metrics
-from collisim.trajectory import PAIR, SEGMENT, WALL, Events, Trajectory
+from collisim.analysis import metrics
+from collisim.model.kinds import PAIR, SEGMENT, WALL
+from collisim.model.trajectory import Events, Trajectory
+from collisim.model.world import World
 
 FPS = 10.0
 
 
 def trajectory(positions, velocities=None, radii=0.5, masses=1.0, events=None):
-    """A Trajectory sampled at FPS from positions (F, n, 2)."""
+    """A Trajectory sampled at FPS from positions (F, n, 2), in a box large enough for them."""
     positions = np.asarray(positions, float)
     frames, n = positions.shape[:2]
     zeros = np.zeros(frames, np.int64)
+    world = World(np.zeros((n, 2)), radii=np.broadcast_to(np.asarray(radii, float), (n,)),
+                  masses=np.broadcast_to(np.asarray(masses, float), (n,)), box=(-1e6, -1e6, 1e6, 1e6))
     return Trajectory(times=np.arange(frames) / FPS, positions=positions,
                       velocities=np.zeros_like(positions) if velocities is None else np.asarray(velocities, float),
-                      radii=np.broadcast_to(np.asarray(radii, float), (n,)).copy(),
-                      masses=np.broadcast_to(np.asarray(masses, float), (n,)).copy(),
-                      wall_hits=zeros, pair_hits=zeros, segment_hits=zeros, candidates=zeros,
-                      events=events or Events.empty())
+                      angles=np.zeros((frames, n)), angular_velocities=np.zeros((frames, n)),
+                      wall_collisions=zeros, pair_collisions=zeros, segment_collisions=zeros, candidates=zeros,
+                      world=world, fps=FPS, events=events or Events.empty())
 
 
 def events(*rows):

@@ -3,7 +3,8 @@ import numpy as np
 import pytest
 
 import collisim
-from collisim.render.video import draw_frame, make_players
+from collisim.pipeline import scene_chapters
+from collisim.render.player import draw_frame, make_players
 from collisim.render.view import View
 
 
@@ -34,9 +35,9 @@ def test_circle_centroids_land_within_half_a_pixel_of_the_transform():
     scene = collisim.Scene(world=world, fps=30, seconds=1.0,
                            render=collisim.RenderSettings(hud=False, flash=False))
     size = (800, 450)
-    players = make_players(scene, size)
+    players = make_players(scene_chapters(scene)[0], size, scene.fps)
     canvas = np.zeros((size[1], size[0], 3), np.uint8)
-    draw_frame(canvas, players, 0, scene.frames)
+    draw_frame(canvas, players, 0)
     expected = players[0].view.to_pixels(world.positions)
     measured = blob_centroids(canvas, colors)
     assert np.all(np.abs(measured - expected) < 0.5), (measured, expected)

@@ -9,10 +9,11 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 from scipy.optimize import brentq
 
-from collisim.ccd.toi import time_to_pair, time_to_point, time_to_segment, time_to_wall
-from collisim.narrowphase.segments import collide_segments
+from collisim.geometry.toi import time_to_pair, time_to_point, time_to_segment, time_to_wall
+from conftest import statics_step
 
 INF = math.inf
+BIG_BOX = (-1e3, -1e3, 1e3, 1e3)
 getcontext().prec = 50
 
 
@@ -196,8 +197,8 @@ def test_segment_touching_but_separating_is_no_impact():
 def test_discrete_segment_bounces_slow_particle_and_pushes_it_out():
     positions = np.array([[0.0, 0.45]])
     velocities = np.array([[1.0, -2.0]])
-    particle, segment, impulse, point = collide_segments(positions, velocities, np.array([0.5]), np.array([2.0]),
-                                                         np.array([SEGMENT]), 0.8)
+    _, events = statics_step(positions, velocities, [0.5], [2.0], BIG_BOX, [SEGMENT], 0.8)
+    particle, segment, impulse, point = events.i, events.j, events.impulse, events.point
     assert list(particle) == [0] and list(segment) == [0]
     assert velocities[0] == pytest.approx([1.0, 1.6], abs=1e-15)
     assert impulse[0] == pytest.approx(2.0 * 3.6)
@@ -211,8 +212,8 @@ def test_discrete_segment_lets_a_fast_particle_tunnel():
     dt, radius = 1 / 60, 0.25
     position, velocity = np.array([[0.0, 5.0]]), np.array([[0.0, -600.0]])
     for _ in range(2):
-        found = collide_segments(position, velocity, np.array([radius]), np.array([1.0]), np.array([SEGMENT]), 1.0)
-        assert len(found[0]) == 0
+        counts, _ = statics_step(position, velocity, [radius], [1.0], BIG_BOX, [SEGMENT], 1.0)
+        assert counts.sum() == 0
         position += velocity * dt
     assert position[0, 1] < -radius
     assert math.isfinite(time_to_segment(0.0, 5.0, 0.0, -600.0, 0.0, 0.0, radius, *SEGMENT, INF)[0])

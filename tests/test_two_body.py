@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 import collisim
-from collisim.response.elastic import resolve_contacts
+from collisim.response.pairs import resolve_pairs
 
 
 def closed_form(x1, x2, v1, v2, m1, m2):
@@ -18,8 +18,8 @@ def respond(x1, x2, v1, v2, m1, m2, r1=1.0, r2=1.0, e=1.0):
     positions = np.array([x1, x2], float)
     velocities = np.array([v1, v2], float)
     impulse, point = np.empty(1), np.empty((1, 2))
-    hits = resolve_contacts(positions, velocities, np.array([m1, m2], float), np.array([r1, r2], float),
-                            np.array([[0, 1]], np.intp), e, impulse, point)
+    hits = resolve_pairs(np.zeros(2, np.int8), positions, velocities, np.array([m1, m2], float),
+                         np.array([r1, r2], float), np.array([[0, 1]], np.intp), 1, e, impulse, point)
     return velocities, hits, impulse[0], positions
 
 
@@ -65,7 +65,7 @@ def test_engine_conserves_momentum_and_energy_in_an_isolated_collision():
     world = collisim.World(positions=[[40.0, 50.0], [60.0, 50.6]], velocities=[[6.0, 0.0], [-4.0, 0.0]],
                            radii=[1.0, 1.7], box=(0, 0, 100, 100))
     traj = collisim.simulate(collisim.Scene(world=world, fps=60, seconds=3.0, broadphase="brute"))
-    assert traj.pair_hits.sum() == 1 and traj.wall_hits.sum() == 0
+    assert traj.pair_collisions.sum() == 1 and traj.wall_collisions.sum() == 0
     p = traj.momentum()
     np.testing.assert_allclose(p, np.broadcast_to(p[0], p.shape), rtol=0, atol=1e-12 * np.abs(p[0]).max())
     ke = traj.kinetic_energy()

@@ -1,8 +1,8 @@
-"""collisim against pymunk (Chipmunk2D), the outside reference (collisim.reference.pymunk_mirror).
+"""collisim against pymunk (Chipmunk2D), the outside reference (collisim.analysis.reference.pymunk_mirror).
 
 Each check states where the two must agree exactly (same arithmetic on the same geometry) and
 where they may differ, with a tolerance derived from the step size or from the measured
-run-to-run scatter of a chaotic gas. What differs and why is written up in collisim.compare.
+run-to-run scatter of a chaotic gas. What differs and why is written up in collisim.analysis.compare.
 """
 import math
 
@@ -11,11 +11,11 @@ import pymunk
 import pytest
 
 import collisim
-from collisim import metrics
-from collisim.compare import DEFAULT_METHODS, compare, format_table, parse_method, rows_to_json
-from collisim.reference import simulate_pymunk
-from collisim.reference.pymunk_mirror import Mirror
-from collisim.trajectory import PAIR, WALL
+from collisim.analysis import metrics
+from collisim.analysis.compare import DEFAULT_METHODS, compare, format_table, parse_method, rows_to_json
+from collisim.analysis.reference import simulate_pymunk
+from collisim.analysis.reference.pymunk_mirror import Mirror
+from collisim.model.kinds import PAIR, WALL
 
 pytestmark = pytest.mark.comparison
 
@@ -53,7 +53,7 @@ def test_pymunk_and_collisim_restitution_agree_for_pairs_and_walls():
     scene = collisim.Scene(world=world, fps=FPS, seconds=0.5)
     _, discrete, mirror = run_all(scene)
     for traj in (discrete, mirror):
-        assert traj.pair_hits.sum() == 1 and traj.wall_hits.sum() == 1
+        assert traj.pair_collisions.sum() == 1 and traj.wall_collisions.sum() == 1
         v = traj.velocities[-1, :, 0]
         # 1D collisions do not depend on when they were detected: exact in both engines
         assert (v[1] - v[0]) == pytest.approx(-0.5 * (-1.0 - 2.0), rel=1e-12)
@@ -162,7 +162,7 @@ def closed_form(world, normal):
 def test_isolated_contact_same_response(restitution):
     scene, normal = touching_pair(restitution)
     ccd, discrete, mirror = run_all(scene)
-    assert discrete.pair_hits[1] == mirror.pair_hits[1] == ccd.pair_hits[1] == 1
+    assert discrete.pair_collisions[1] == mirror.pair_collisions[1] == ccd.pair_collisions[1] == 1
     # same positions (both step p += v·dt without gravity), same normal, one contact: pymunk's
     # solver reaches the exact impulse in its first iteration, so only round-off differs
     np.testing.assert_allclose(mirror.velocities[1], discrete.velocities[1], rtol=0, atol=1e-12)
@@ -182,7 +182,7 @@ def test_two_bodies_conserve_kinetic_energy_in_every_engine():
         # no gravity, e = 1: isolated elastic contacts and walls keep kinetic energy exactly
         ke = traj.kinetic_energy()
         assert abs(ke[-1] / ke[0] - 1) < 1e-12
-        assert traj.pair_hits.sum() >= 2
+        assert traj.pair_collisions.sum() >= 2
 
 
 # --- a gas: statistics ---------------------------------------------------------------------------
@@ -222,7 +222,7 @@ def test_gas_relaxes_to_maxwell_boltzmann(gas):
 # Over 12 seeds of this gas (10 s each), relative to ccd: pair collisions pymunk -3.4 % (scatter
 # 1.7 %), discrete -1.7 % (2.2 %); wall pressure pymunk -1.0 % (1.4 %), discrete -2.6 % (1.9 %).
 # The bias is the first-order shrinking of the effective diameter by late detection (see
-# collisim.compare); bias + 3 scatter stays under 10 %.
+# collisim.analysis.compare); bias + 3 scatter stays under 10 %.
 RATE_TOLERANCE = 0.10
 
 
@@ -231,7 +231,7 @@ def test_gas_collision_rate_and_pressure(gas):
     exact = runs["ccd"]
     for name in ("discrete", "pymunk"):
         traj = runs[name]
-        assert traj.pair_hits.sum() / exact.pair_hits.sum() == pytest.approx(1, abs=RATE_TOLERANCE), name
+        assert traj.pair_collisions.sum() / exact.pair_collisions.sum() == pytest.approx(1, abs=RATE_TOLERANCE), name
         pressure = metrics.wall_pressure(traj, scene.world) / metrics.wall_pressure(exact, scene.world)
         assert pressure == pytest.approx(1, abs=RATE_TOLERANCE), name
 

@@ -1,14 +1,14 @@
 """collisim: a frame-recording animation renderer for collision simulations.
 
-    scene file -> Scene -> World (arrays) -> simulate (discrete or ccd) -> Trajectory
-               -> raster (OpenCV) -> encoder (PyAV) -> renders/<scene>.mp4
+    scene file -> Scene -> World (bodies, statics) -> engine (discrete or ccd) -> Trajectory
+               -> player (raster, overlays) -> writer (PyAV) -> renders/<scene>.mp4
 """
 from .engine import simulate, stream
-from .render import render
-from .scene import Panel, RenderSettings, Scene, load_scene
-from .trajectory import Events, Trajectory
-from .world import World
+from .model import Events, Panel, RenderSettings, Scene, Trajectory, World, load_trajectory
+from .model.scenefile import load_scene
+from .narrowphase import contacts
+from .pipeline import render
 
 __version__ = "0.1.0"
-__all__ = ["World", "Scene", "Panel", "RenderSettings", "Trajectory", "Events",
-           "simulate", "stream", "render", "load_scene"]
+__all__ = ["World", "Scene", "Panel", "RenderSettings", "Trajectory", "Events", "simulate", "stream", "render",
+           "load_scene", "load_trajectory", "contacts"]

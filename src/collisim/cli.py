@@ -11,8 +11,13 @@ import time
 import warnings
 from pathlib import Path
 
+from .broadphase import NAMES as BROAD_PHASES
+from .engine import METHODS
 from .engine.profile import profile_table
-from .scene import QUALITY_SIZES, available_scenes, describe_scene_file, load_scene
+from .io.writers import WRITERS
+from .model.scene import RenderSettings
+from .model.scene import QUALITY_SIZES
+from .model.scenefile import available_scenes, describe_scene_file, load_scene
 
 
 class OneLineParser(argparse.ArgumentParser):
@@ -35,27 +40,32 @@ def build_parser() -> argparse.ArgumentParser:
     commands = parser.add_subparsers(dest="command", required=True, parser_class=OneLineParser)
     commands.add_parser("list", help="list the scenes with a one-line description")
     render = commands.add_parser("render", help="render a scene to MP4 (or one frame to PNG)")
-    render.add_argument("scene", help="scene name (e.g. single_bounce) or path to a scene file")
+    render.add_argument("scene", help="scene name (e.g. single_bounce), path to a scene file, or a saved "
+                                      "trajectory (.npz)")
     render.add_argument("--out", type=Path, help="output file (default renders/<scene>.mp4)")
     render.add_argument("--fps", type=float, help="frames per second of the video")
     render.add_argument("--seconds", type=float, help="duration")
     render.add_argument("--size", type=parse_size, help="frame size WxH (default: the scene's, by quality)")
     render.add_argument("--quality", choices=tuple(QUALITY_SIZES), default="m",
                         help="l 480p / m 720p / h 1080p, with matching encoder quality")
-    render.add_argument("--codec", choices=("h264", "mp4v"), default="h264")
+    render.add_argument("--codec", choices=tuple(WRITERS), default="h264")
     render.add_argument("--png", type=int, metavar="FRAME", help="write frame FRAME as PNG instead of a video")
-    render.add_argument("--method", choices=("discrete", "ccd"))
+    render.add_argument("--method", choices=tuple(METHODS))
     render.add_argument("--substeps", type=int, help="discrete steps per frame")
-    render.add_argument("--broadphase", help="broad phase: brute, sweep_prune, grid, kdtree, bvh")
+    render.add_argument("--broadphase", choices=BROAD_PHASES, help="broad phase")
     render.add_argument("--restitution", type=float, help="coefficient of restitution e in [0, 1]")
     render.add_argument("--profile", action="store_true", help="print time per phase at the end")
     render.add_argument("--no-progress", action="store_true", help="no progress bar")
+    render.add_argument("--save-trajectory", type=Path, metavar="PATH",
+                        help="also write the simulated trajectory to PATH (.npz) (scenes of one world)")
     add_bench_parser(commands)
     compare = commands.add_parser("compare", help="run collisim's methods and pymunk on one scene, one table")
     compare.add_argument("scene", help="scene name or path")
     compare.add_argument("--methods", nargs="+", help="labels such as 'discrete x1' 'discrete x8' ccd 'pymunk x1'")
     compare.add_argument("--seconds", type=float, help="simulated duration")
     compare.add_argument("--json", action="store_true", help="print JSON instead of a table")
+    compare.add_argument("--video", type=Path, metavar="PATH",
+                         help="also render the compared runs side by side, titled, to PATH")
     return parser
 
 
@@ -90,32 +100,54 @@ def cmd_list(args) -> int:
 
 
 def cmd_render(args) -> int:
-    from .render import render
+    from .model.trajectory import load_trajectory
+    from .pipeline import render
     from .render.video import output_size
 
-    scene = load_scene(args.scene).with_options(
-        fps=args.fps, seconds=args.seconds, method=args.method, substeps=args.substeps,
-        broadphase=args.broadphase, restitution=args.restitution)
+    if str(args.scene).endswith(".npz"):
+        source = load_trajectory(args.scene)
+        name, fps, frames, base = Path(args.scene).stem, source.fps, source.frames, RenderSettings().size
+    else:
+        source = load_scene(args.scene).with_options(
+            fps=args.fps, seconds=args.seconds, method=args.method, substeps=args.substeps,
+            broadphase=args.broadphase, restitution=args.restitution)
+        name, fps, frames, base = source.name, source.fps, source.frames, source.render.size
     suffix = ".png" if args.png is not None else ".mp4"
-    out = args.out or Path("renders") / f"{scene.name}{suffix}"
+    out = args.out or Path("renders") / f"{name}{suffix}"
     profile = {} if args.profile else None
-    width, height = output_size(scene, args.size, args.quality)
+    width, height = output_size(base, args.size, args.quality)
     start = time.perf_counter()
-    path = render(scene, out, (width, height), codec=args.codec, quality=args.quality, png_frame=args.png,
-                  progress=not args.no_progress, profile=profile, phases=args.profile)
+    settings = None
+    if args.save_trajectory is not None:  # simulate once: save the run, then play it
+        source, settings = _saved_trajectory(source, args.save_trajectory), source.render
+    path = render(source, out, (width, height), settings=settings, codec=args.codec, quality=args.quality,
+                  png_frame=args.png, progress=not args.no_progress, profile=profile)
     seconds = time.perf_counter() - start
-    what = f"frame {args.png}" if args.png is not None else f"{scene.frames} frames at {scene.fps:g} fps, {args.codec}"
+    what = f"frame {args.png}" if args.png is not None else f"{frames} frames at {fps:g} fps, {args.codec}"
     print(f"{path}: {what}, {width}x{height}, {seconds:.1f} s")
     if profile:
         print(profile_table(profile))
     return 0
 
 
+def _saved_trajectory(source, path: Path):
+    """Simulate a scene of one world, save its trajectory to path, and return it."""
+    from .engine import simulate
+    from .io.writers import check_writable
+    from .model.scene import Scene
+    if not isinstance(source, Scene) or source.world is None:
+        raise ValueError("--save-trajectory needs a scene of one world (not panels or chapters)")
+    check_writable(Path(path).parent)
+    trajectory = simulate(source)
+    print(f"{trajectory.save(path)}: trajectory")
+    return trajectory
+
+
 def cmd_bench(args) -> int:
-    from .render.encoder import check_writable
+    from .io.writers import check_writable
     check_writable(args.out)
     if args.kind == "broadphase":
-        from .bench.broadphase import run
+        from .analysis.bench.broadphase import run
         if min(args.sizes) < 2 or args.repeats < 1 or not 0 < args.packing < 0.9:
             raise ValueError("sizes must be >= 2, repeats >= 1 and packing in (0, 0.9)")
         figures = run(args.out, sizes=args.sizes, packing=args.packing, repeats=args.repeats,
@@ -125,8 +157,8 @@ def cmd_bench(args) -> int:
                   f"whole discrete step {figures['discrete_vs_pymunk'][n]:.2f} x pymunk's")
         print(f"wrote {figures['csv']} and {figures['png']}")
     elif args.kind == "accuracy":
-        from .bench.accuracy import run
-        from .bench.workloads import WORKLOADS
+        from .analysis.bench.accuracy import run
+        from .analysis.bench.workloads import WORKLOADS
         _check_positive_seconds(args.seconds)
         unknown = sorted(set(args.workloads or ()) - set(WORKLOADS))
         if unknown or args.repeats < 1:
@@ -137,7 +169,7 @@ def cmd_bench(args) -> int:
         print(format_accuracy_budget(figures["budget"]))
         print(f"wrote {figures['csv']} and {len(figures['png'])} charts")
     elif args.kind == "render":
-        from .bench.render import run
+        from .analysis.bench.render import run
         _check_positive_seconds(args.seconds)
         figures = run(args.out, seconds=args.seconds, memory=not args.no_memory, progress=not args.no_progress)
         print(format_render_figures(figures))
@@ -174,10 +206,12 @@ def format_render_figures(f: dict) -> str:
 
 
 def cmd_compare(args) -> int:
-    from .compare import compare, format_table, rows_to_json
+    from .analysis.compare import compare, format_table, render_comparison, rows_to_json
     scene = load_scene(args.scene)
-    rows = compare(scene, methods=args.methods, seconds=args.seconds)
+    rows = compare(scene, methods=args.methods, seconds=args.seconds, keep_trajectories=args.video is not None)
     print(rows_to_json(rows) if args.json else format_table(rows))
+    if args.video is not None:
+        print(f"{render_comparison(rows, args.video)}: the compared runs side by side")
     return 0
 
 

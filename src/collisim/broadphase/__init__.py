@@ -29,6 +29,7 @@ from .sweep_prune import SweepAndPrune
 __all__ = ["METHODS", "BroadPhase", "describe", "find_pairs", "make"]
 
 METHODS = ("brute", "sweep_prune", "grid", "kdtree", "bvh")
+NAMES = METHODS
 
 _CLASSES = {cls.name: cls for cls in (BruteForce, SweepAndPrune, UniformGrid, KDTree,
                                        BoundingVolumeHierarchy)}

@@ -1,139 +1,194 @@
-"""Discrete collision detection: step, then look for overlaps at the end of the step.
+"""Discrete collision detection: step, then look for contacts at the end of the step.
 
-One step of dt reads as the pipeline (each block is timed into the profile):
+One step of dt is the pipeline below, each phase timed into the profile (engine/profile.py):
 
-    integrate     p += v·dt + ½·a·dt², v += a·dt
-    broad phase   candidate pairs from the particles' bounding boxes
-    narrow phase  keep the pairs that really touch
-    response      elastic impulses, then overlap removal, in sorted pair order
-    barriers      thin segments
-    walls         the box
-    settle        a wall bounce may push a particle back into its partner: separate this
-                  step's contacts again and keep every circle in the box (positions only)
+    integrate     p += v·dt + ½·a·dt², v += a·dt, θ += ω·dt
+    broad         candidate pairs from the bodies' bounding boxes (any of the five broad phases)
+    narrow        keep the candidates that really touch (narrowphase/registry.py)
+    response      impulses, then overlap removal, in sorted pair order (response/pairs.py)
+    statics       segments near each body (statics/segment_index.py), then the box walls
+    settle        a wall bounce may push a body back into its partner: separate this step's
+                  contacts again and keep every body in the box (positions only)
+    record        the frame's state into the trajectory
 
-A frame is k substeps of dt/k. With one particle there are no pairs, and no pair phase runs.
-With the grid broad phase and no profile wanted, the same kernels run fused in one compiled
-call per block of frames (fused.py): identical bytes, without the per-phase Python calls.
+A frame is k substeps of dt/k. The whole block of frames runs as one compiled call (a Python
+call per phase would cost more than the work at a thousand bodies); with fewer than two
+bodies no pair phase runs.
 """
 from __future__ import annotations
 
-import numpy as np
+from collections import namedtuple
 
-from ..narrowphase.circles import touching_pairs
-from ..response.elastic import resolve_contacts, separate_contacts
-from ..trajectory import PAIR, SEGMENT, WALL, Events
-from .block import FrameBlock
+import numpy as np
+from numba import njit
+
+from ..broadphase.step import candidate_pairs, step_state
+from ..geometry.box import clamp_into_box
+from ..model.kinds import PAIR, SEGMENT, WALL
+from ..narrowphase.registry import touching_pairs
+from ..narrowphase.statics import empty_contacts, segment_contacts
+from ..response.pairs import resolve_pairs, separate_pairs
+from ..response.statics import bounce_between_walls, bounce_off_segment
+from ..statics.segment_index import build_segment_index
+from .eventlog import log_events, new_log, record
 from .integrate import integrate
-from .profile import Profile
-from .walls import clamp_into_box, collide_walls
+from .profile import Profile, cycles
+
+INTEGRATE, BROAD, NARROW, RESPONSE, STATICS, SETTLE, RECORD, TOTAL = range(8)
+
+Bodies = namedtuple("Bodies", ["shapes", "positions", "velocities", "angles", "angular_velocities",
+                               "accelerations", "radii", "masses"])
+Statics = namedtuple("Statics", ["box", "segments", "index", "restitution"])
+Frames = namedtuple("Frames", ["positions", "velocities", "angles", "angular_velocities", "collisions",
+                               "candidates"])
+Frames.__doc__ = """A block of frames: positions, velocities (f, n, 2); angles, angular_velocities (f, n);
+collisions (f, 3) wall, pair, segment in the interval ending at each frame; candidates (f,)."""
+
+
+@njit(cache=True)
+def _lap(phase_cycles, phase, since):
+    now = cycles()
+    phase_cycles[phase] += now - since
+    return now
+
+
+@njit(cache=True)
+def _bounds(bodies, lo, hi):
+    """Each body's bounding box (n, 2) lo, hi from its shape (circles: centre ± radius)."""
+    for i in range(bodies.positions.shape[0]):
+        for axis in range(2):
+            lo[i, axis] = bodies.positions[i, axis] - bodies.radii[i]
+            hi[i, axis] = bodies.positions[i, axis] + bodies.radii[i]
+
+
+@njit(cache=True)
+def _pair_phases(bodies, statics, broad, lo, hi, log, now, counts, phase_cycles, t):
+    """broad, narrow and response: returns (contacts, candidates, log, t)."""
+    b = bodies
+    _bounds(b, lo, hi)
+    pairs = candidate_pairs(broad, lo, hi)
+    t = _lap(phase_cycles, BROAD, t)
+    contacts = touching_pairs(b.shapes, b.positions, b.radii, pairs)
+    t = _lap(phase_cycles, NARROW, t)
+    impulse, point = np.empty(contacts.shape[0]), np.empty((contacts.shape[0], 2))
+    counts[PAIR] += resolve_pairs(b.shapes, b.positions, b.velocities, b.masses, b.radii, contacts,
+                                  contacts.shape[0], statics.restitution, impulse, point)
+    for c in range(contacts.shape[0]):
+        if impulse[c] > 0.0:
+            log = record(log, now, PAIR, contacts[c, 0], contacts[c, 1], impulse[c], point[c, 0], point[c, 1])
+    t = _lap(phase_cycles, RESPONSE, t)
+    return contacts, pairs.shape[0], log, t
+
+
+@njit(cache=True)
+def statics_scratch(m):
+    """Buffers for statics_phase: segment contacts (grown as needed), near segments (m,)."""
+    return empty_contacts(), np.empty(max(m, 1), np.int64)
+
+
+@njit(cache=True)
+def statics_phase(bodies, statics, scratch, log, now, counts):
+    """Segments, then walls, in place; collisions added to counts (3,) and log. scratch from
+    statics_scratch. Returns the log."""
+    b, s = bodies, statics
+    if s.segments.shape[0] > 0:
+        found, count = segment_contacts(b.positions, b.radii, s.segments, s.index, scratch[0], scratch[1])
+        for c in range(count):
+            i, k = found[c, 0], found[c, 1]
+            impulse, x, y = bounce_off_segment(b.positions, b.velocities, b.radii, b.masses, s.segments, i, k,
+                                               s.restitution)
+            if impulse > 0.0:
+                log = record(log, now, SEGMENT, i, k, impulse, x, y)
+                counts[SEGMENT] += 1
+    for i in range(b.positions.shape[0]):
+        for axis in range(2):
+            low, high = s.box[axis] + b.radii[i], s.box[axis + 2] - b.radii[i]
+            if low <= b.positions[i, axis] <= high:
+                continue  # the extreme points are inside: no wall touched on this axis
+            low_bounces, high_bounces, low_impulse, high_impulse = bounce_between_walls(
+                b.positions, b.velocities, b.accelerations, b.radii, b.masses, s.box, s.restitution, i, axis)
+            if low_bounces > 0:
+                log = _record_wall(log, now, b.positions, s.box, i, axis, 0, low_impulse)
+            if high_bounces > 0:
+                log = _record_wall(log, now, b.positions, s.box, i, axis, 1, high_impulse)
+            counts[WALL] += low_bounces + high_bounces
+    return log
+
+
+@njit(cache=True)
+def _record_wall(log, now, positions, box, i, axis, side, impulse):
+    """Log body i's bounce off wall 2·axis + side, at the wall beside the body."""
+    on_wall, along = box[axis + 2 * side], positions[i, 1 - axis]
+    x, y = (on_wall, along) if axis == 0 else (along, on_wall)
+    return record(log, now, WALL, i, 2 * axis + side, impulse, x, y)
+
+
+@njit(cache=True)
+def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, phase_cycles):
+    """Advance bodies in place by out's frame count, each frame `substeps` steps of dt, filling
+    out (Frames) and appending every collision to log. phase_cycles (8,) int64 receives the
+    cycles per phase and their total. Returns the log."""
+    start = cycles()
+    b, s = bodies, statics
+    n = b.positions.shape[0]
+    lo, hi = np.empty((n, 2)), np.empty((n, 2))
+    scratch = statics_scratch(s.segments.shape[0])
+    t = start
+    for frame in range(out.positions.shape[0]):
+        counts = out.collisions[frame]
+        for _ in range(substeps):
+            step_count += 1
+            now = step_count * dt
+            t = cycles()
+            integrate(b.positions, b.velocities, b.accelerations, b.angles, b.angular_velocities, dt)
+            t = _lap(phase_cycles, INTEGRATE, t)
+            contacts = np.empty((0, 2), np.intp)
+            if n >= 2:
+                contacts, candidates, log, t = _pair_phases(b, s, broad, lo, hi, log, now, counts, phase_cycles, t)
+                out.candidates[frame] = candidates
+            log = statics_phase(b, s, scratch, log, now, counts)
+            t = _lap(phase_cycles, STATICS, t)
+            if contacts.shape[0] > 0:
+                separate_pairs(b.shapes, b.positions, b.masses, b.radii, contacts, contacts.shape[0])
+                clamp_into_box(b.positions, b.radii, s.box)
+                t = _lap(phase_cycles, SETTLE, t)
+        out.positions[frame] = b.positions
+        out.velocities[frame] = b.velocities
+        out.angles[frame] = b.angles
+        out.angular_velocities[frame] = b.angular_velocities
+        t = _lap(phase_cycles, RECORD, t)
+    phase_cycles[TOTAL] += cycles() - start
+    return log
+
+
+def new_frames(count: int, n: int) -> Frames:
+    return Frames(np.empty((count, n, 2)), np.empty((count, n, 2)), np.empty((count, n)), np.empty((count, n)),
+                  np.zeros((count, 3), np.int64), np.zeros(count, np.int64))
 
 
 class DiscreteStepper:
     """Advances a copy of a world, a block of frames at a time."""
 
-    def __init__(self, world, fps: float, substeps: int = 1, broadphase_method: str = "sweep_prune",
-                 profile: Profile | None = None, fused: bool = True):
-        self.world = world
-        self.positions = world.positions.copy()
-        self.velocities = world.velocities.copy()
+    def __init__(self, world, fps: float, substeps: int = 1, broadphase: str = "sweep_prune",
+                 profile: Profile | None = None):
+        w = world
+        self.bodies = Bodies(w.shapes, w.positions.copy(), w.velocities.copy(), w.angles.copy(),
+                             w.angular_velocities.copy(), w.accelerations, w.radii, w.masses)
+        index = build_segment_index(w.segments, w.box)
+        self.statics = Statics(w.box, w.segments, index, float(w.restitution))
+        self.broad = step_state(broadphase, world)
+        self.broadphase = broadphase if w.n >= 2 else ""
         self.dt = 1.0 / fps / substeps
         self.substeps = int(substeps)
         self.profile = profile or Profile()
         self.step_count = 0
         self.warnings = []
-        n = world.n
-        self.broad = _broad_phase(broadphase_method) if n >= 2 else None
-        self.broadphase = broadphase_method if n >= 2 else ""
-        self._wall_buffers = (np.empty(4 * n, np.intp), np.empty(4 * n, np.intp),
-                              np.empty(4 * n), np.empty((4 * n, 2)))
-        self._segment_collider = _segment_collider(world)
-        self._fused = None
-        if fused and broadphase_method == "grid" and n >= 2 and self._segment_collider is None:
-            from .fused import FusedGrid
-            self._fused = FusedGrid(world, self.dt, self.substeps)
 
-    def run(self, count: int) -> FrameBlock:
-        """Advance `count` frames."""
-        if self._fused is not None:
-            self.profile.start()
-            block = self._fused.run(self.positions, self.velocities, self.step_count, count)
-            self.step_count += count * self.substeps
-            self.profile.lap("step")
-            return block
-        n = self.world.n
-        positions, velocities = np.empty((count, n, 2)), np.empty((count, n, 2))
-        hits, candidates, events = np.zeros((count, 3), np.int64), np.zeros(count, np.int64), []
-        for frame in range(count):
-            for _ in range(self.substeps):
-                candidates[frame] = self.step(hits[frame], events)
-            positions[frame], velocities[frame] = self.positions, self.velocities
-        return FrameBlock(positions, velocities, hits, candidates, Events.concatenate(events))
-
-    def step(self, hits, events) -> int:
-        """One step of dt: add its collisions to hits (wall, pair, segment) and its Events to
-        events; return the number of broad-phase candidates."""
-        w, profile = self.world, self.profile
-        self.step_count += 1
-        time = self.step_count * self.dt
-        profile.start()
-        integrate(self.positions, self.velocities, w.accelerations, self.dt)
-        profile.lap("integrate")
-        candidates, contacts = 0, None
-        if self.broad is not None:
-            candidates, contacts = self._collide_pairs(hits, events, time)
-        if self._segment_collider is not None:
-            hits[2] += self._segment_collider(self.positions, self.velocities, events, time)
-            profile.lap("barriers")
-        count, wall_hits = collide_walls(self.positions, self.velocities, w.accelerations, w.radii, w.masses, w.box,
-                                         w.restitution, *self._wall_buffers)
-        if count:
-            particle, wall, impulse, point = (b[:count].copy() for b in self._wall_buffers)
-            events.append(Events(np.full(count, time), np.full(count, WALL, np.int8), particle, wall, impulse, point))
-        hits[0] += wall_hits
-        profile.lap("walls")
-        if contacts is not None and len(contacts):
-            separate_contacts(self.positions, w.masses, w.radii, contacts)
-            clamp_into_box(self.positions, w.radii, w.box)
-            profile.lap("settle")
-        return candidates
-
-    def _collide_pairs(self, hits, events, time) -> int:
-        w, profile = self.world, self.profile
-        reach = w.radii[:, None]
-        candidates = self.broad.pairs(self.positions - reach, self.positions + reach)
-        profile.lap("broad")
-        contacts = touching_pairs(self.positions, w.radii, candidates)
-        profile.lap("narrow")
-        impulse = np.empty(len(contacts))
-        point = np.empty((len(contacts), 2))
-        collisions = resolve_contacts(self.positions, self.velocities, w.masses, w.radii, contacts,
-                                      w.restitution, impulse, point)
-        if collisions:
-            hit = impulse > 0
-            events.append(Events(np.full(collisions, time), np.full(collisions, PAIR, np.int8),
-                                 contacts[hit, 0].copy(), contacts[hit, 1].copy(), impulse[hit], point[hit]))
-        hits[1] += collisions
-        profile.lap("response")
-        return len(candidates), contacts
-
-
-def _broad_phase(method: str):
-    """The broad phase object; imported only for scenes with pairs to find."""
-    from .. import broadphase
-    return broadphase.make(method)
-
-
-def _segment_collider(world):
-    """The thin-barrier phase, or None when the world has no barriers."""
-    if len(world.segments) == 0:
-        return None
-    from ..narrowphase.segments import collide_segments
-
-    def collide(positions, velocities, events, time) -> int:
-        particle, segment, impulse, point = collide_segments(positions, velocities, world.radii, world.masses,
-                                                             world.segments, world.restitution)
-        if len(particle):
-            events.append(Events(np.full(len(particle), time), np.full(len(particle), SEGMENT, np.int8),
-                                 particle, segment, impulse, point))
-        return len(particle)
-    return collide
+    def run(self, count: int):
+        """Advance `count` frames: (Frames, Events)."""
+        out = new_frames(count, len(self.bodies.positions))
+        log = self.profile.timed(lambda phase_cycles: run_frames(
+            self.bodies, self.statics, self.broad, self.dt, self.substeps, self.step_count, out, new_log(64),
+            phase_cycles))
+        self.step_count += count * self.substeps
+        return out, log_events(log)

@@ -2,18 +2,20 @@
 
     p += v·dt + ½·a·dt²
     v += a·dt
+    θ += ω·dt      (no torque acts between contacts)
 """
 from numba import njit
 
 
 @njit(cache=True)
-def integrate(positions, velocities, accelerations, dt):
-    """Advance every particle by dt in place.
+def integrate(positions, velocities, accelerations, angles, angular_velocities, dt):
+    """Advance every body by dt in place.
 
-    positions, velocities, accelerations: (n, 2)
+    positions, velocities, accelerations: (n, 2); angles, angular_velocities: (n,)
     """
     half_dt2 = 0.5 * dt * dt
     for i in range(positions.shape[0]):
         for axis in range(2):
             positions[i, axis] += velocities[i, axis] * dt + accelerations[i, axis] * half_dt2
             velocities[i, axis] += accelerations[i, axis] * dt
+        angles[i] += angular_velocities[i] * dt

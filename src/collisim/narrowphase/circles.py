@@ -1,20 +1,24 @@
-"""Circle-circle detection: two circles touch when the distance between their centres is at
-most the sum of their radii (compared squared, so no square root is needed)."""
-import numpy as np
+"""Circle against circle: they touch when the distance between their centres is at most the
+sum of their radii. The contact normal is the line of centres from i to j."""
 from numba import njit
+
+from ..geometry.circle import line_of_centres
 
 
 @njit(cache=True)
-def touching_pairs(positions, radii, candidates):
-    """Keep the candidate pairs whose circles overlap or touch.
+def circles_touch(positions, radii, i, j):
+    """Do circles i and j overlap or touch? Compared squared: no square root needed.
+    positions: (n, 2); radii: (n,)."""
+    dx = positions[j, 0] - positions[i, 0]
+    dy = positions[j, 1] - positions[i, 1]
+    reach = radii[i] + radii[j]
+    return dx * dx + dy * dy <= reach * reach
 
-    positions: (n, 2); radii: (n,); candidates: (k, 2) intp -> (m, 2) intp, same order
-    """
-    keep = np.zeros(candidates.shape[0], dtype=np.bool_)
-    for c in range(candidates.shape[0]):
-        i, j = candidates[c, 0], candidates[c, 1]
-        dx = positions[j, 0] - positions[i, 0]
-        dy = positions[j, 1] - positions[i, 1]
-        reach = radii[i] + radii[j]
-        keep[c] = dx * dx + dy * dy <= reach * reach
-    return candidates[keep]
+
+@njit(cache=True)
+def circle_circle(positions, radii, i, j):
+    """The contact of circles i and j as (nx, ny, depth, px, py): the unit normal from i to j,
+    the overlap depth (negative when apart) and the contact point on i's surface."""
+    nx, ny, distance = line_of_centres(positions, i, j)
+    depth = radii[i] + radii[j] - distance
+    return nx, ny, depth, positions[i, 0] + nx * radii[i], positions[i, 1] + ny * radii[i]

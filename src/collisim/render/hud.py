@@ -1,28 +1,29 @@
-"""The heads-up display: what the viewer needs to read a frame (scene, time, frame, method)."""
+"""The heads-up display: what the viewer needs to read a frame (time, frame, method, counts)."""
 from __future__ import annotations
 
 from .. import palette
 from .raster import draw_text
 
 
-def method_label(scene) -> str:
-    if scene.method == "ccd":
+def method_label(trajectory) -> str:
+    """How the trajectory was made, e.g. 'discrete | grid', 'ccd (exact)', 'pymunk x1'."""
+    if trajectory.method == "ccd":
         return "ccd (exact)"
-    label = "discrete" if scene.substeps == 1 else f"discrete x{scene.substeps} substeps"
-    if scene.world is not None and scene.world.n >= 2:
-        label += f" | {scene.broadphase}"
-    return label
+    if trajectory.method != "discrete":
+        return f"{trajectory.method} x{trajectory.substeps}"
+    label = "discrete" if trajectory.substeps == 1 else f"discrete x{trajectory.substeps} substeps"
+    return label + (f" | {trajectory.broadphase}" if trajectory.broadphase else "")
 
 
-def hud_lines(scene, state, compact: bool = False) -> list:
-    """The panel's own clock: its sample index counts frames at the panel's fps. A compact HUD
-    (narrow panels) keeps the clock and the collision count."""
-    clock = f"t = {state.time:6.3f} s   frame {state.sample}/{scene.frames} at {scene.fps:g} fps"
+def hud_lines(trajectory, frames: int, state, compact: bool = False) -> list:
+    """The panel's own clock: its sample index counts frames at the trajectory's fps. A compact
+    HUD (narrow panels) keeps the clock and the collision count."""
     if compact:
         return [f"t = {state.time:5.2f} s  frame {state.sample}", f"collisions: {state.total_collisions}"]
-    lines = [clock, method_label(scene)]
-    if scene.world.n >= 2:
-        lines.append(f"pairs: {state.candidates} candidates, {state.pair_hits} hits")
+    lines = [f"t = {state.time:6.3f} s   frame {state.sample}/{frames} at {trajectory.fps:g} fps",
+             method_label(trajectory)]
+    if trajectory.world.n >= 2:
+        lines.append(f"pairs: {state.candidates} candidates, {state.pair_collisions} collisions")
     lines.append(f"collisions: {state.total_collisions}")
     return lines
 

@@ -1,0 +1,1 @@
+"""Measuring runs: metrics, the compare table, pymunk as the reference, the benchmarks."""

@@ -1,0 +1,121 @@
+"""The broad phases as the discrete step calls them from compiled code, every step.
+
+Each method keeps what it needs between steps in a small state (a namedtuple of arrays and
+numbers): sweep and prune its sorted order, the grid its fixed layout over the box, the trees
+their options. `candidate_pairs(state, lo, hi)` is one compiled function whose implementation
+is chosen by the *type* of the state when the step is compiled (numba's overload), so a run
+compiles only the broad phase it uses and each choice is cached on its own.
+
+Every kernel returns the contract of broadphase/__init__.py: pairs (k, 2) intp with i < j,
+sorted and unique, containing every pair of overlapping boxes.
+"""
+from collections import namedtuple
+
+import numpy as np
+from numba import njit
+from numba.extending import overload
+
+from ._common import sorted_unique_pairs
+from .brute import brute_force_pairs
+from .bvh import build_bvh, bvh_pairs
+from .grid import bin_boxes, grid_pairs
+from .kdtree import kdtree_pairs
+from .sweep_prune import repair_order, sweep
+
+BruteState = namedtuple("BruteState", ["n"])
+SweepState = namedtuple("SweepState", ["order", "axis"])        # (n,) intp; (1,) intp, -1 before the first sort
+GridState = namedtuple("GridState", ["origin", "cells_per_unit", "nx", "ny"])
+KDTreeState = namedtuple("KDTreeState", ["leaf_size", "max_depth"])
+BVHState = namedtuple("BVHState", ["leaf_size"])
+
+
+def box_grid(box, radii) -> GridState:
+    """A fixed grid over the world's box (bodies never leave it): cells twice the median
+    diameter, widened so there are at most about 4n cells."""
+    width, height = box[2] - box[0], box[3] - box[1]
+    cell = max(4.0 * float(np.median(radii)), np.sqrt(width * height / (4 * max(len(radii), 1))))
+    return GridState(np.array(box[:2], np.float64), 1.0 / cell, int(width // cell) + 1, int(height // cell) + 1)
+
+
+STATES = {
+    "brute": lambda world: BruteState(world.n),
+    "sweep_prune": lambda world: SweepState(np.arange(world.n), np.full(1, -1, np.intp)),
+    "grid": lambda world: box_grid(world.box, world.radii),
+    "kdtree": lambda world: KDTreeState(2, 32),
+    "bvh": lambda world: BVHState(2),
+}
+
+
+def step_state(name: str, world):
+    """The state the discrete step keeps for broad phase `name` over `world`."""
+    return STATES[name](world)
+
+
+@njit(cache=True)
+def _brute(state, lo, hi):
+    return sorted_unique_pairs(brute_force_pairs(lo, hi), lo.shape[0])
+
+
+@njit(cache=True)
+def _sweep_axis(lo, hi):
+    """The axis (0 or 1) along which the box centres have the larger variance."""
+    n = lo.shape[0]
+    spread = np.zeros(2)
+    for axis in range(2):
+        mean = 0.0
+        for i in range(n):
+            mean += lo[i, axis] + hi[i, axis]
+        mean /= n
+        for i in range(n):
+            d = lo[i, axis] + hi[i, axis] - mean
+            spread[axis] += d * d
+    return 1 if spread[1] > spread[0] else 0
+
+
+@njit(cache=True)
+def _sweep(state, lo, hi):
+    n = lo.shape[0]
+    axis = _sweep_axis(lo, hi)
+    keys = lo[:, axis].copy()
+    # Last step's order is nearly sorted: repair it by insertion sort, unless the axis
+    # changed or the repair would cost more than a fresh n log n sort.
+    if axis != state.axis[0] or repair_order(keys, state.order, n * int(np.ceil(np.log2(n)))) < 0:
+        state.order[:] = np.argsort(keys, kind="mergesort")
+        state.axis[0] = axis
+    return sorted_unique_pairs(sweep(lo, hi, state.order, axis), n)
+
+
+@njit(cache=True)
+def _grid(state, lo, hi):
+    start, boxes = bin_boxes(lo, hi, state.origin, state.cells_per_unit, state.nx, state.ny)
+    raw = grid_pairs(lo, hi, state.origin, state.cells_per_unit, state.nx, state.ny, start, boxes)
+    return sorted_unique_pairs(raw, lo.shape[0])
+
+
+@njit(cache=True)
+def _kdtree(state, lo, hi):
+    return sorted_unique_pairs(kdtree_pairs(lo, hi, state.leaf_size, state.max_depth)[0], lo.shape[0])
+
+
+@njit(cache=True)
+def _bvh(state, lo, hi):
+    order, node_lo, node_hi, first, count, left, _ = build_bvh(lo, hi, state.leaf_size)
+    return sorted_unique_pairs(bvh_pairs(lo, hi, order, node_lo, node_hi, first, count, left), lo.shape[0])
+
+
+KERNELS = {BruteState: _brute, SweepState: _sweep, GridState: _grid, KDTreeState: _kdtree, BVHState: _bvh}
+
+
+def candidate_pairs(state, lo, hi):
+    """Candidate pairs of boxes lo, hi (n, 2), n >= 2, for the broad phase whose state this is
+    (compiled code only)."""
+    raise NotImplementedError("candidate_pairs is called from compiled code")
+
+
+@overload(candidate_pairs)
+def _candidate_pairs(state, lo, hi):
+    kernel = KERNELS[state.instance_class]
+
+    def impl(state, lo, hi):
+        return kernel(state, lo, hi)
+    return impl

@@ -1,0 +1,119 @@
+"""Particle state of the event-driven simulation, advanced lazily in closed form.
+
+Between two events a particle moves with constant acceleration, so its state at
+any time follows from its state at its own reference time t_ref:
+
+    p(t) = p + v (t - t_ref) + ½ a (t - t_ref)²,    v(t) = v + a (t - t_ref)
+
+Nothing is integrated and no error accumulates between events. Only the
+particles taking part in an event are brought up to the event time ("advanced");
+the others keep their older reference times (Lubachevsky's lazy update).
+
+Resting. With restitution e < 1 a ball bouncing on a floor makes infinitely many
+ever smaller bounces in a finite time (Zeno). Once a rebound would rise less
+than REST_HEIGHT × radius, the particle instead *rests* on that support (a box
+wall or a segment): its normal velocity is zeroed and the support cancels the
+normal part of gravity, so it slides along it with the tangential part of
+gravity. Sliding into a second support that it is pressed against (a corner,
+the bottom of a V) it is *wedged*: it stays put. A collision with a particle
+releases it (then gravity acts again in full, and if it is still pressed into
+the support that contact is found at once); so does a collision with an
+obstacle that gives it a velocity across its support.
+"""
+from collections import namedtuple
+
+from numba import njit
+
+Bodies = namedtuple("Bodies", ["pos", "vel", "acc", "t_ref", "radius", "mass", "support", "wedge",
+                               "support_normal", "counter", "horizon"])
+Bodies.__doc__ = """pos, vel, acc (n, 2): state at t_ref (n,); radius, mass (n,).
+support (n,) int64: FREE, a wall index, or N_WALLS + segment index for a resting particle;
+wedge (n,) int64: its second support when wedged, else FREE; support_normal (n, 2): the
+first support's unit normal, pointing at the particle.
+counter (n,) int64: events so far, to invalidate older predictions.
+horizon (n,) float64: time of the particle's next predicted one-particle event (wall, segment,
+cell crossing), after which all its predictions are redone anyway."""
+
+Environment = namedtuple("Environment", ["box", "segments", "gravity", "restitution"])
+Environment.__doc__ = """box (4,): xmin, ymin, xmax, ymax; segments (m, 4): x0, y0, x1, y1;
+gravity (2,); restitution: e in [0, 1]."""
+
+FREE = -1
+REST_HEIGHT = 1e-9
+
+
+@njit(cache=True, error_model="numpy")
+def position_at(bodies, i, t):
+    """(x, y) of particle i at time t."""
+    dt = t - bodies.t_ref[i]
+    return (bodies.pos[i, 0] + (bodies.vel[i, 0] + 0.5 * bodies.acc[i, 0] * dt) * dt,
+            bodies.pos[i, 1] + (bodies.vel[i, 1] + 0.5 * bodies.acc[i, 1] * dt) * dt)
+
+
+@njit(cache=True, error_model="numpy")
+def velocity_at(bodies, i, t):
+    """(vx, vy) of particle i at time t."""
+    dt = t - bodies.t_ref[i]
+    return bodies.vel[i, 0] + bodies.acc[i, 0] * dt, bodies.vel[i, 1] + bodies.acc[i, 1] * dt
+
+
+@njit(cache=True, error_model="numpy")
+def advance(bodies, i, t):
+    """Move particle i's reference time to t."""
+    bodies.pos[i, 0], bodies.pos[i, 1] = position_at(bodies, i, t)
+    bodies.vel[i, 0], bodies.vel[i, 1] = velocity_at(bodies, i, t)
+    bodies.t_ref[i] = t
+
+
+@njit(cache=True, error_model="numpy")
+def comes_to_rest(env, radius, rebound_speed, nx, ny):
+    """Should a particle leaving a support (normal n, pointing at the particle) at
+    rebound_speed rest on it instead? Only if gravity presses it into the support
+    and the rebound would rise less than REST_HEIGHT × radius."""
+    pressing = -(env.gravity[0] * nx + env.gravity[1] * ny)
+    return pressing > 0.0 and rebound_speed * rebound_speed <= 2.0 * pressing * REST_HEIGHT * radius
+
+
+@njit(cache=True, error_model="numpy")
+def rest_on(bodies, env, i, support, nx, ny):
+    """Particle i (current) comes to rest on a support with unit normal n (pointing at
+    it): no normal velocity, and the normal part of gravity is cancelled. If it already
+    rests on another support and slides into this one, it is wedged: it stops."""
+    if bodies.support[i] != FREE:
+        if bodies.acc[i, 0] * nx + bodies.acc[i, 1] * ny < 0.0:
+            bodies.wedge[i] = support
+            bodies.vel[i, 0] = bodies.vel[i, 1] = bodies.acc[i, 0] = bodies.acc[i, 1] = 0.0
+        return
+    vn = bodies.vel[i, 0] * nx + bodies.vel[i, 1] * ny
+    gn = env.gravity[0] * nx + env.gravity[1] * ny
+    bodies.vel[i, 0] -= vn * nx
+    bodies.vel[i, 1] -= vn * ny
+    bodies.acc[i, 0] = env.gravity[0] - gn * nx
+    bodies.acc[i, 1] = env.gravity[1] - gn * ny
+    bodies.support[i] = support
+    bodies.support_normal[i, 0], bodies.support_normal[i, 1] = nx, ny
+
+
+@njit(cache=True, error_model="numpy")
+def rests_on(bodies, i, support):
+    """Is particle i resting on this support (a wall index or N_WALLS + segment)?"""
+    first, second = bodies.support[i], bodies.wedge[i]
+    return first == support or second == support
+
+
+@njit(cache=True, error_model="numpy")
+def release(bodies, env, i):
+    """Particle i (current) no longer rests on anything: full gravity again."""
+    bodies.support[i] = bodies.wedge[i] = FREE
+    bodies.acc[i, 0], bodies.acc[i, 1] = env.gravity[0], env.gravity[1]
+
+
+@njit(cache=True, error_model="numpy")
+def keep_or_release(bodies, env, i):
+    """After a collision with an obstacle: particle i keeps resting on its support only
+    if its velocity is still along it."""
+    if bodies.support[i] == FREE:
+        return
+    across = bodies.vel[i, 0] * bodies.support_normal[i, 0] + bodies.vel[i, 1] * bodies.support_normal[i, 1]
+    if abs(across) > 1e-12 * (abs(bodies.vel[i, 0]) + abs(bodies.vel[i, 1])):
+        release(bodies, env, i)

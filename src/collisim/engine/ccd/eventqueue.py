@@ -1,0 +1,141 @@
+"""The future-event queue: a binary min-heap of predicted events.
+
+An event is (time, key, count_i, count_j). The key packs (kind, i, j) into one
+integer so that events at the same time are always processed in the same order,
+by kind, then i, then j: simultaneous events are deterministic.
+
+Events are never searched for and removed when they become wrong (a particle
+whose velocity changed invalidates all its predictions). Instead every particle
+has a collision counter, each event remembers the counters of its particles when
+it was predicted, and an event whose counters are out of date is simply skipped
+when it reaches the top (the lazy deletion of Rapaport and Lubachevsky).
+"""
+from collections import namedtuple
+
+import numpy as np
+from numba import njit
+
+from ...model.kinds import SEGMENT
+
+assert SEGMENT < 3  # the bookkeeping kinds below sort after every collision kind
+
+# Kinds of event, in the order simultaneous events are processed. The collision kinds
+# (kinds.WALL, PAIR, SEGMENT) come first and are recorded; these only update the bookkeeping.
+CELL = 3        # j = direction of the crossing: 0 -x, 1 +x, 2 -y, 3 +y
+SLIDE_OFF = 4   # j = the segment a resting particle slides off the end of
+
+EventQueue = namedtuple("EventQueue", ["time", "key", "count_i", "count_j", "size"])
+EventQueue.__doc__ = """time (c,) float64; key, count_i, count_j (c,) int64: a heap of capacity c.
+size (1,) int64: the number of events in it. count_j is -1 for one-particle events."""
+
+
+@njit(cache=True, error_model="numpy")
+def new_queue(capacity):
+    """An empty queue with room for `capacity` events."""
+    return EventQueue(np.empty(capacity), np.empty(capacity, np.int64), np.empty(capacity, np.int64),
+                      np.empty(capacity, np.int64), np.zeros(1, np.int64))
+
+
+@njit(cache=True, error_model="numpy")
+def event_key(kind, i, j, base):
+    """Pack (kind, i, j), each of i, j < base, into an integer ordered like the tuple."""
+    return (kind * base + i) * base + j
+
+
+@njit(cache=True, error_model="numpy")
+def key_parts(key, base):
+    """(kind, i, j) from event_key."""
+    return key // (base * base), (key // base) % base, key % base
+
+
+@njit(cache=True, error_model="numpy")
+def is_current(queue, slot, counters, base):
+    """Were the counters of the event's particles unchanged since it was predicted?"""
+    kind, i, j = key_parts(queue.key[slot], base)
+    count_i, count_j = queue.count_i[slot], queue.count_j[slot]
+    return count_i == counters[i] and (count_j < 0 or count_j == counters[j])
+
+
+@njit(cache=True, error_model="numpy")
+def _before(time_a, key_a, time_b, key_b):
+    """Does event a come before event b? By time, ties by key."""
+    return time_a < time_b or (time_a == time_b and key_a < key_b)
+
+
+@njit(cache=True, error_model="numpy")
+def _swap(queue, a, b):
+    queue.time[a], queue.time[b] = queue.time[b], queue.time[a]
+    queue.key[a], queue.key[b] = queue.key[b], queue.key[a]
+    queue.count_i[a], queue.count_i[b] = queue.count_i[b], queue.count_i[a]
+    queue.count_j[a], queue.count_j[b] = queue.count_j[b], queue.count_j[a]
+
+
+@njit(cache=True, error_model="numpy")
+def _sift_up(queue, slot):
+    time, key = queue.time, queue.key
+    while slot > 0:
+        parent = (slot - 1) // 2
+        if not _before(time[slot], key[slot], time[parent], key[parent]):
+            return
+        _swap(queue, slot, parent)
+        slot = parent
+
+
+@njit(cache=True, error_model="numpy")
+def _sift_down(queue, slot):
+    time, key = queue.time, queue.key
+    size = queue.size[0]
+    while True:
+        first = slot
+        for child in (2 * slot + 1, 2 * slot + 2):
+            if child < size and _before(time[child], key[child], time[first], key[first]):
+                first = child
+        if first == slot:
+            return
+        _swap(queue, slot, first)
+        slot = first
+
+
+@njit(cache=True, error_model="numpy")
+def push(queue, time, key, count_i, count_j):
+    """Add an event; the caller has reserved room for it."""
+    slot = queue.size[0]
+    queue.time[slot], queue.key[slot] = time, key
+    queue.count_i[slot], queue.count_j[slot] = count_i, count_j
+    queue.size[0] = slot + 1
+    _sift_up(queue, slot)
+
+
+@njit(cache=True, error_model="numpy")
+def pop(queue):
+    """Remove the earliest event and return it as (time, key, count_i, count_j)."""
+    top = (queue.time[0], queue.key[0], queue.count_i[0], queue.count_j[0])
+    last = queue.size[0] - 1
+    _swap(queue, 0, last)
+    queue.size[0] = last
+    _sift_down(queue, 0)
+    return top
+
+
+@njit(cache=True, error_model="numpy")
+def reserve(queue, extra, counters, base):
+    """A queue with room for `extra` more events: the same one, or one with the
+    out-of-date events dropped, or a larger copy."""
+    capacity = queue.time.shape[0]
+    if queue.size[0] + extra <= capacity:
+        return queue
+    kept = 0
+    for slot in range(queue.size[0]):
+        if is_current(queue, slot, counters, base):
+            queue.time[kept], queue.key[kept] = queue.time[slot], queue.key[slot]
+            queue.count_i[kept], queue.count_j[kept] = queue.count_i[slot], queue.count_j[slot]
+            kept += 1
+    while 2 * (kept + extra) > capacity:
+        capacity *= 2
+    larger = new_queue(capacity)
+    larger.time[:kept], larger.key[:kept] = queue.time[:kept], queue.key[:kept]
+    larger.count_i[:kept], larger.count_j[:kept] = queue.count_i[:kept], queue.count_j[:kept]
+    larger.size[0] = kept
+    for slot in range(kept // 2 - 1, -1, -1):
+        _sift_down(larger, slot)
+    return larger

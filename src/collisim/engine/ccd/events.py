@@ -1,0 +1,286 @@
+"""Method `ccd`: exact event-driven simulation, sampled at frame times.
+
+Instead of stepping time in fixed increments and repairing overlaps, an
+event-driven simulation jumps from one collision to the next:
+
+1. predict, for every particle, when it will next hit a wall, a segment or
+   another particle (time of impact, toi.py) and put those events in a
+   priority queue ordered by time (eventqueue.py);
+2. take the earliest event, bring the particles involved up to its time (they
+   move in closed form, p + v t + ½ g t², bodies.py), apply the collision
+   response (resolve.py);
+3. predict again for those particles only — their other queued events are now
+   out of date and are skipped when they come up (collision counters);
+4. repeat. A frame boundary is just a time at which all particles are sampled.
+
+Candidate pairs come from a cell grid whose cell crossings are events too
+(grid.py, predict.py), so no collision is missed at any speed, and the work
+per event stays constant as the number of particles grows.
+
+Guards. Only approaching contacts are impacts, so a pair that has just
+collided is never collided again at t + 0 by rounding, and overlapping pairs
+that separate are left alone. Collisions at exactly the same time are solved
+together (resolve.py), so the result does not depend on their order and
+mirror-symmetric set-ups stay symmetric; everything else happens in the fixed
+order (time, kind, i, j). Zeno behaviour (infinitely many collisions in a
+finite time) is headed off where it usually starts: a particle that would
+bounce less than a billionth of its radius rests on its wall or segment
+(bodies.py), and contacts between particles under gravity never bounce lower
+than an invisible micro-bounce (resolve.py). Anything that still needs more
+than `max_events_per_frame` events in one frame sets budget_exceeded[f], and
+the frame is finished by a discrete projection step (fallback.py), so a run
+never hangs and nothing leaves the box.
+
+Compiled code. Every function of the package is compiled by numba with
+error_model="numpy": a division by zero gives inf or nan, as in NumPy, instead
+of raising (every such case is guarded anyway, so results are the same). That
+is for speed. The state travels as namedtuples of arrays (Bodies, CellGrid,
+EventQueue), and when a function hands one to a callee that may raise, or uses
+it again after a branch, numba updates the reference count of every array in
+it around the call — more work than most of the arithmetic of an event. (Only
+allocating can still raise: the queue growing, the quartic root finder.) So the
+functions run at every event read the numbers they need out of a tuple before
+branching (bodies.rests_on, eventqueue.is_current), compare heap entries as
+plain numbers (eventqueue._before), allocate nothing (grid.neighbour_block), and
+call the segment test, whose quartics allocate, only where there are segments
+(predict.predict_solo).
+"""
+from typing import NamedTuple
+
+import numpy as np
+from numba import njit
+
+from ...geometry.box import clamp_into_box
+from ...model.kinds import N_WALLS, PAIR, SEGMENT, WALL
+from ..eventlog import new_log, record
+from .bodies import FREE, Bodies, Environment, advance, position_at, release, velocity_at
+from .eventqueue import CELL, is_current, key_parts, new_queue, pop, reserve
+from .fallback import finish_frame_discretely
+from .grid import assign_all, link, make_grid, unlink
+from .predict import predict_pairs, predict_solo
+from .resolve import (add_pair_contact, add_segment_contact, add_wall_contact, new_contacts, settle_resting,
+                      solve_contacts)
+
+
+class CCDResult(NamedTuple):
+    """The sampled trajectory and the collisions of an event-driven run.
+
+    F = n_frames + 1 samples, sample f at t = f * frame_dt (f = 0: the initial state).
+    Collisions are listed by time, then (kind, i, j); the per-frame counts are those
+    in the interval ending at sample f (0 at f = 0).
+    """
+    positions: np.ndarray        # (F, n, 2)
+    velocities: np.ndarray       # (F, n, 2)
+    time: np.ndarray             # (k,) float64
+    kind: np.ndarray             # (k,) int8: 0 wall, 1 pair, 2 segment
+    i: np.ndarray                # (k,) intp: the particle (the lower index for pairs)
+    j: np.ndarray                # (k,) intp: the other particle, the wall (0 left 1 right 2 bottom 3 top) or segment
+    impulse: np.ndarray          # (k,) float64: m |Δv_n| delivered to i (and to j for pairs)
+    point: np.ndarray            # (k, 2) contact point
+    wall_collisions: np.ndarray      # (F,) int64
+    pair_collisions: np.ndarray      # (F,) int64
+    segment_collisions: np.ndarray   # (F,) int64
+    budget_exceeded: np.ndarray  # (F,) bool
+
+
+@njit(cache=True, error_model="numpy")
+def reschedule(bodies, grid, env, queue, particles, count, t, t_end, base, done):
+    """New predictions from time t for the (current) particles particles[:count] of an event.
+
+    done (n,) bool is all False on entry and on return; it marks the particles whose
+    pairs are predicted already, so that no pair is queued twice.
+    """
+    n = bodies.radius.shape[0]
+    counter = bodies.counter
+    for k in range(count):
+        counter[particles[k]] += 1
+    queue = reserve(queue, count, counter, base)
+    for k in range(count):
+        predict_solo(bodies, grid, env, queue, particles[k], t, t_end, base)
+    for k in range(count):
+        queue = reserve(queue, n, counter, base)
+        predict_pairs(bodies, grid, queue, particles[k], t, done, base)
+        done[particles[k]] = True
+    for k in range(count):
+        done[particles[k]] = False
+    return queue
+
+
+@njit(cache=True, error_model="numpy")
+def schedule_all(bodies, grid, env, queue, t, t_end, base, done):
+    """Forget every prediction and predict everything afresh from time t."""
+    n = bodies.radius.shape[0]
+    queue.size[0] = 0
+    for i in range(n):
+        advance(bodies, i, t)
+    assign_all(grid, bodies.pos)
+    return reschedule(bodies, grid, env, queue, np.arange(n), n, t, t_end, base, done)
+
+
+@njit(cache=True, error_model="numpy")
+def _involve(bodies, i, t, involved, count, listed):
+    """Add particle i to the involved particles (once), brought to time t. Returns the
+    new count."""
+    if listed[i]:
+        return count
+    listed[i] = True
+    advance(bodies, i, t)
+    involved[count] = i
+    return count + 1
+
+
+@njit(cache=True, error_model="numpy")
+def collect_collisions(bodies, env, queue, contacts, t, key, base, involved, listed):
+    """Turn the collision `key` at time t (just popped) and every other current collision
+    at exactly the same time into contacts, taking them off the queue. Fills involved
+    with the particles concerned and returns their number."""
+    contacts.count[0] = 0
+    count = 0
+    while True:
+        kind, i, j = key_parts(key, base)
+        count = _involve(bodies, i, t, involved, count, listed)
+        if kind == PAIR:
+            count = _involve(bodies, j, t, involved, count, listed)
+            add_pair_contact(bodies, env, contacts, i, j)
+        elif kind == WALL:
+            add_wall_contact(bodies, env, contacts, i, j)
+        else:
+            add_segment_contact(bodies, env, contacts, i, j)
+        while queue.size[0] > 0 and queue.time[0] == t and not is_current(queue, 0, bodies.counter, base):
+            pop(queue)
+        if (queue.size[0] == 0 or queue.time[0] != t or key_parts(queue.key[0], base)[0] > SEGMENT
+                or contacts.count[0] == contacts.kind.shape[0]):
+            break
+        key = pop(queue)[1]
+    for k in range(contacts.count[0]):
+        if contacts.j[k] >= 0:  # a collision with a particle ends resting; settle_resting may restore it
+            release(bodies, env, contacts.i[k])
+            release(bodies, env, contacts.j[k])
+    listed[involved[:count]] = False
+    return count
+
+
+@njit(cache=True, error_model="numpy")
+def record_contacts(log, contacts, t, frame_counts):
+    """Log the contacts that delivered an impulse and count them by kind."""
+    for k in range(contacts.count[0]):
+        if contacts.impulse[k] > 0.0:
+            log = record(log, t, contacts.kind[k], contacts.i[k], contacts.other[k], contacts.impulse[k],
+                         contacts.x[k], contacts.y[k])
+            frame_counts[contacts.kind[k]] += 1
+    return log
+
+
+@njit(cache=True, error_model="numpy")
+def apply_bookkeeping(bodies, grid, env, kind, i, j, t):
+    """A cell crossing (move i to the next cell in direction j) or a slide off a segment's end."""
+    advance(bodies, i, t)
+    if kind == CELL:
+        destination = grid.cell[i] + (-1, 1, -grid.nx, grid.nx)[j]
+        unlink(grid, i)
+        link(grid, i, destination)
+    else:
+        release(bodies, env, i)
+
+
+@njit(cache=True, error_model="numpy")
+def sample(bodies, t, positions, velocities):
+    """Write every particle's state at time t into positions, velocities (n, 2)."""
+    for i in range(bodies.radius.shape[0]):
+        positions[i, 0], positions[i, 1] = position_at(bodies, i, t)
+        velocities[i, 0], velocities[i, 1] = velocity_at(bodies, i, t)
+
+
+@njit(cache=True, error_model="numpy")
+def run(bodies, grid, env, frame_dt, n_frames, budget, positions, velocities, counts, over_budget):
+    """The event loop. Fills positions, velocities (F, n, 2), counts (F, 3) per kind and
+    over_budget (F,); returns the EventLog of collisions in processing order."""
+    n = bodies.radius.shape[0]
+    base = max(n, env.segments.shape[0], N_WALLS) + 1
+    t_end = n_frames * frame_dt
+    done, listed, involved = np.zeros(n, np.bool_), np.zeros(n, np.bool_), np.empty(n, np.int64)
+    contacts = new_contacts(4 * n + 16)
+    queue = schedule_all(bodies, grid, env, new_queue(16 * (n + 1)), 0.0, t_end, base, done)
+    log = new_log(1024)
+    sample(bodies, 0.0, positions[0], velocities[0])
+    for f in range(1, n_frames + 1):
+        t_frame = f * frame_dt
+        processed = 0
+        while queue.size[0] > 0 and queue.time[0] <= t_frame:
+            if not is_current(queue, 0, bodies.counter, base):
+                pop(queue)
+                continue
+            if processed >= budget:
+                over_budget[f] = True
+                break
+            t, key = pop(queue)[:2]
+            kind, i, j = key_parts(key, base)
+            if kind <= SEGMENT:
+                count = collect_collisions(bodies, env, queue, contacts, t, key, base, involved, listed)
+                solve_contacts(bodies, contacts)
+                settle_resting(bodies, env, contacts)
+                log = record_contacts(log, contacts, t, counts[f])
+                processed += contacts.count[0]
+            else:
+                apply_bookkeeping(bodies, grid, env, kind, i, j, t)
+                involved[0], count = i, 1
+                processed += 1
+            queue = reschedule(bodies, grid, env, queue, involved, count, t, t_end, base, done)
+        if over_budget[f]:
+            finish_frame_discretely(bodies, grid, env, t_frame)
+            queue = schedule_all(bodies, grid, env, queue, t_frame, t_end, base, done)
+        sample(bodies, t_frame, positions[f], velocities[f])
+    return log
+
+
+def _checked_inputs(positions, velocities, gravity, radii, masses, box, segments):
+    """float64 copies of the inputs, after checking shapes and that the particles fit
+    inside the box; centres within 1e-9 of the box size outside are moved in."""
+    positions = np.array(positions, dtype=np.float64).reshape(-1, 2)
+    n = len(positions)
+    velocities = np.array(velocities, dtype=np.float64).reshape(n, 2)
+    radii = np.broadcast_to(np.asarray(radii, dtype=np.float64), (n,)).copy()
+    masses = np.broadcast_to(np.asarray(masses, dtype=np.float64), (n,)).copy()
+    gravity = np.array(gravity, dtype=np.float64).reshape(2)
+    box = np.array(box, dtype=np.float64).reshape(4)
+    segments = np.zeros((0, 4)) if segments is None else np.array(segments, dtype=np.float64).reshape(-1, 4)
+    if np.any(radii <= 0) or np.any(masses <= 0):
+        raise ValueError("radii and masses must be > 0")
+    lower, upper = box[:2] + radii[:, None], box[2:] - radii[:, None]
+    tolerance = 1e-9 * max(box[2] - box[0], box[3] - box[1])
+    if np.any(lower > upper) or np.any(positions < lower - tolerance) or np.any(positions > upper + tolerance):
+        raise ValueError("every particle must lie inside the box")
+    clamp_into_box(positions, radii, box)
+    return positions, velocities, gravity, radii, masses, box, segments
+
+
+def simulate_events(positions, velocities, gravity, radii, masses, box, restitution, segments, frame_dt, n_frames,
+                    max_events_per_frame=100_000) -> CCDResult:
+    """Exact event-driven simulation of n circles, sampled every frame_dt for n_frames.
+
+    positions, velocities (n, 2); gravity (2,) the same for every particle; radii,
+    masses (n,) > 0; box (xmin, ymin, xmax, ymax); restitution e in [0, 1]; segments
+    (m, 4) rows (x0, y0, x1, y1) or None. Inputs are copied, never modified.
+    Returns a CCDResult; F = n_frames + 1 samples, the first one the initial state.
+    """
+    positions, velocities, gravity, radii, masses, box, segments = _checked_inputs(
+        positions, velocities, gravity, radii, masses, box, segments)
+    if max_events_per_frame < 1 or n_frames < 0 or not frame_dt > 0 or not 0.0 <= restitution <= 1.0:
+        raise ValueError("need max_events_per_frame >= 1, n_frames >= 0, frame_dt > 0 and 0 <= restitution <= 1")
+    n, samples = len(positions), n_frames + 1
+    bodies = Bodies(positions, velocities, np.tile(gravity, (n, 1)), np.zeros(n), radii, masses,
+                    np.full(n, FREE, np.int64), np.full(n, FREE, np.int64), np.zeros((n, 2)), np.zeros(n, np.int64),
+                    np.zeros(n))
+    env = Environment(box, segments, gravity, float(restitution))
+    out_positions, out_velocities = np.empty((samples, n, 2)), np.empty((samples, n, 2))
+    counts, over_budget = np.zeros((samples, 3), np.int64), np.zeros(samples, np.bool_)
+    log = run(bodies, make_grid(box, radii, segments), env, float(frame_dt), int(n_frames),
+              int(max_events_per_frame), out_positions, out_velocities, counts, over_budget)
+    k = log.size[0]
+    time, kind, i, j = log.time[:k], log.kind[:k], log.i[:k], log.j[:k]
+    order = np.arange(k)
+    if k > 1 and not np.all(time[1:] > time[:-1]):  # simultaneous collisions: put them in (kind, i, j) order
+        order = np.lexsort((j, i, kind, time))
+    return CCDResult(out_positions, out_velocities, time[order], kind[order], i[order], j[order],
+                     log.impulse[:k][order], log.point[:k][order], counts[:, WALL].copy(), counts[:, PAIR].copy(),
+                     counts[:, SEGMENT].copy(), over_budget)

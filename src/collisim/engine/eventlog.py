@@ -1,0 +1,40 @@
+"""The collision log that compiled engines append to, and its conversion to Events."""
+from collections import namedtuple
+
+import numpy as np
+from numba import njit
+
+from ..arrays import grown
+from ..model.trajectory import Events
+
+EventLog = namedtuple("EventLog", ["time", "kind", "i", "j", "impulse", "point", "size"])
+EventLog.__doc__ = """Collisions as appended: time, impulse (c,) float64; kind (c,) int8; i, j (c,) intp;
+point (c, 2); size (1,) int64 how many of the c rows are filled. Fields as in Events."""
+
+
+@njit(cache=True)
+def new_log(capacity):
+    """An empty log with room for `capacity` collisions."""
+    return EventLog(np.empty(capacity), np.empty(capacity, np.int8), np.empty(capacity, np.intp),
+                    np.empty(capacity, np.intp), np.empty(capacity), np.empty((capacity, 2)), np.zeros(1, np.int64))
+
+
+@njit(cache=True)
+def record(log, t, kind, i, j, impulse, x, y):
+    """Append a collision; returns the log (with larger arrays when it was full)."""
+    k = log.size[0]
+    if k == log.time.shape[0]:
+        log = EventLog(grown(log.time, k + 1), grown(log.kind, k + 1), grown(log.i, k + 1), grown(log.j, k + 1),
+                       grown(log.impulse, k + 1), grown(log.point, k + 1), log.size)
+    log.time[k], log.kind[k], log.i[k], log.j[k], log.impulse[k] = t, kind, i, j, impulse
+    log.point[k, 0], log.point[k, 1] = x, y
+    log.size[0] = k + 1
+    return log
+
+
+def log_events(log: EventLog, time_offset: float = 0.0) -> Events:
+    """The logged collisions as Events in canonical (time, kind, i, j) order."""
+    k = int(log.size[0])
+    events = Events(log.time[:k] + time_offset, log.kind[:k].copy(), log.i[:k].copy(), log.j[:k].copy(),
+                    log.impulse[:k].copy(), log.point[:k].copy())
+    return Events.concatenate([events])

@@ -1,0 +1,15 @@
+"""The words every path shares, each defined once: the kinds of shape and of collision event.
+
+Shape kinds index the narrow phase's table of contact functions (narrowphase/registry.py).
+Event kinds label every collision in a Trajectory, whichever method found it; the event-driven
+method numbers its bookkeeping events after them (engine/ccd/eventqueue.py).
+"""
+CIRCLE = 0
+SHAPE_NAMES = ("circle",)
+
+WALL, PAIR, SEGMENT = 0, 1, 2
+EVENT_NAMES = ("wall", "pair", "segment")
+
+# A wall event's `j`: which side of the box (2·axis + side), in this order.
+WALL_SIDES = ("left", "right", "bottom", "top")
+N_WALLS = len(WALL_SIDES)

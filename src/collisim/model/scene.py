@@ -1,0 +1,121 @@
+"""A scene: what to simulate (a World, or several side by side), for how long, and how to draw
+it. Scene files that build one are loaded by scenefile.py."""
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass, field
+from typing import Callable, Optional
+
+from .world import World
+
+QUALITY_SIZES = {"l": (854, 480), "m": (1280, 720), "h": (1920, 1080)}
+
+
+@dataclass
+class RenderSettings:
+    """How a scene is drawn.
+
+    `overlay(canvas, view, state)` draws scene-specific explanations (structures, captions)
+    over a panel after the bodies: canvas is the (height, width, 3) uint8 BGR frame, view maps
+    world to pixels (render/view.py), state is the panel's render.player.FrameState (time,
+    sample, positions, velocities, angles, the sample's collision counts, and the running
+    `counters` below).
+    `counters` maps a name to `count(before, after)`, called for every pair of consecutive
+    samples (FrameState) the panel plays; the player keeps the running sum in
+    state.counters[name], so an overlay can show a number that derives from the trajectory
+    (such as missed collisions) without simulating anything."""
+    size: tuple = QUALITY_SIZES["m"]
+    trails: int = 0            # motion-trail length in frames; 0 draws none
+    arrows: bool = False       # velocity arrows
+    arrow_seconds: float = 0.25  # an arrow shows where the particle would be this much later
+    hud: bool = True
+    flash: bool = True         # a brief ring at each impact
+    overlay: Optional[Callable] = None
+    layout: Optional[tuple] = None  # (rows, cols) of panels; by default up to three in a row
+    counters: dict = field(default_factory=dict)
+
+
+@dataclass
+class Panel:
+    """One titled simulation inside a scene drawn side by side with others."""
+    scene: "Scene"
+    title: str = ""
+
+
+@dataclass
+class Scene:
+    """world + frame rate + duration + method + render settings.
+
+    A scene made of `panels` shows several simulations side by side in one video; each panel
+    keeps its own fps (a 15 fps panel in a 60 fps video holds each frame for 4 video frames).
+    A scene made of `chapters` plays scenes one after another; `seconds` is the whole video
+    (the last chapter's last frame holds if the chapters are shorter).
+    """
+    world: Optional[World] = None
+    fps: float = 60.0
+    seconds: float = 2.0
+    method: str = "discrete"
+    substeps: int = 1
+    broadphase: str = "sweep_prune"
+    name: str = "scene"
+    description: str = ""
+    render: RenderSettings = field(default_factory=RenderSettings)
+    panels: tuple = ()
+    chapters: tuple = ()
+
+    def __post_init__(self):
+        self.panels = tuple(self.panels)
+        self.chapters = tuple(self.chapters)
+        self.validate()
+
+    @property
+    def frames(self) -> int:
+        """Frames in the video: fps × seconds."""
+        return int(round(self.fps * self.seconds))
+
+    def validate(self) -> None:
+        _check_positive("fps", self.fps)
+        _check_positive("seconds", self.seconds)
+        if self.frames < 1:
+            raise ValueError(f"seconds={self.seconds:g} at fps={self.fps:g} is shorter than one frame")
+        from ..broadphase import NAMES as BROAD_PHASES
+        from ..engine import METHODS
+        if self.method not in METHODS:
+            raise ValueError(f"unknown method '{self.method}'; choose one of: {', '.join(METHODS)}")
+        if int(self.substeps) != self.substeps or self.substeps < 1:
+            raise ValueError(f"substeps must be a whole number >= 1, got {self.substeps}")
+        if self.broadphase not in BROAD_PHASES:
+            raise ValueError(f"unknown broad phase '{self.broadphase}'; choose one of: {', '.join(BROAD_PHASES)}")
+        if sum((self.world is not None, bool(self.panels), bool(self.chapters))) != 1:
+            raise ValueError("a scene needs exactly one of: a world, panels, chapters")
+
+    def replace(self, **changes) -> "Scene":
+        """A copy with some fields changed (and validated)."""
+        return dataclasses.replace(self, **changes)
+
+    def with_options(self, *, fps=None, seconds=None, method=None, substeps=None,
+                     broadphase=None, restitution=None) -> "Scene":
+        """Apply command-line style overrides. A panel scene keeps its panels' physics (they exist
+        to compare settings); its video fps and duration change."""
+        scene = self
+        if fps is not None:
+            scene = scene.replace(fps=fps)
+        if seconds is not None:  # chapters keep their lengths: the video is cut or held
+            panels = tuple(Panel(p.scene.replace(seconds=seconds), p.title) for p in scene.panels)
+            scene = scene.replace(seconds=seconds, panels=panels)
+        physics = {k: v for k, v in dict(method=method, substeps=substeps, broadphase=broadphase).items()
+                   if v is not None}
+        if scene.world is not None:
+            if restitution is not None:
+                physics["world"] = scene.world.copy(restitution=float(restitution))
+            scene = scene.replace(**physics)
+        return scene
+
+
+def _check_positive(name: str, value) -> None:
+    try:
+        ok = float(value) > 0 and float(value) < float("inf")
+    except (TypeError, ValueError):
+        ok = False
+    if not ok:
+        raise ValueError(f"{name} must be a finite number > 0, got {value}")

@@ -1,0 +1,169 @@
+"""What a simulation returns: the state at every frame time and its collision events; and the
+trajectory file (`Trajectory.save`, `load_trajectory`), so a run can be rendered later."""
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+import zipfile
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from .world import World
+
+FILE_FORMAT = 1  # the version of the trajectory file written by save()
+_EVENT_FIELDS = ("time", "kind", "i", "j", "impulse", "point")
+_FRAME_FIELDS = ("times", "positions", "velocities", "angles", "angular_velocities", "wall_collisions",
+                 "pair_collisions", "segment_collisions", "candidates")
+_WORLD_FIELDS = ("positions", "velocities", "angles", "angular_velocities", "accelerations", "gravity", "radii",
+                 "masses", "colors", "box", "segments")
+
+
+@dataclass
+class Events:
+    """Collision events, one row each, sorted by (time, kind, i, j).
+
+    time: (k,)      when the impact happened (the discrete method: the end of the step that found it)
+    kind: (k,) int8 kinds.WALL, PAIR or SEGMENT
+    i: (k,)         the body
+    j: (k,)         the other body (PAIR, i < j), the wall (WALL: kinds.WALL_SIDES) or the segment
+    impulse: (k,)   magnitude of the impulse on body i along the contact normal
+    point: (k, 2)   contact point
+    """
+    time: np.ndarray
+    kind: np.ndarray
+    i: np.ndarray
+    j: np.ndarray
+    impulse: np.ndarray
+    point: np.ndarray
+
+    @classmethod
+    def empty(cls) -> "Events":
+        return cls(np.zeros(0), np.zeros(0, np.int8), np.zeros(0, np.intp), np.zeros(0, np.intp),
+                   np.zeros(0), np.zeros((0, 2)))
+
+    @classmethod
+    def concatenate(cls, parts: list) -> "Events":
+        """One Events of all parts, in canonical (time, kind, i, j) order."""
+        if not parts:
+            return cls.empty()
+        merged = cls(*(np.concatenate([getattr(p, name) for p in parts]) for name in _EVENT_FIELDS))
+        order = np.lexsort((merged.j, merged.i, merged.kind, merged.time))
+        return merged.take(order)
+
+    def take(self, index) -> "Events":
+        return Events(*(getattr(self, name)[index] for name in _EVENT_FIELDS))
+
+    def __len__(self) -> int:
+        return len(self.time)
+
+
+@dataclass
+class Trajectory:
+    """The state at every frame time t = 0, 1/fps, ..., seconds (F = frames + 1 samples).
+
+    times: (F,)
+    positions, velocities: (F, n, 2)
+    angles, angular_velocities: (F, n)
+    wall_collisions, pair_collisions, segment_collisions: (F,)  collisions in the interval
+                       ending at each frame (0 at t = 0)
+    candidates: (F,)   broad-phase candidate pairs of the last step of each frame
+    events: every collision, for pressure, flashes and measurements
+    world: the initial World (shapes, masses, colours, box, segments: what a player draws)
+    fps, method, broadphase, substeps: how it was simulated
+    profile: seconds spent per phase of the step (see engine/profile.py)
+    warnings: what the engine had to say about the run
+    """
+    times: np.ndarray
+    positions: np.ndarray
+    velocities: np.ndarray
+    angles: np.ndarray
+    angular_velocities: np.ndarray
+    wall_collisions: np.ndarray
+    pair_collisions: np.ndarray
+    segment_collisions: np.ndarray
+    candidates: np.ndarray
+    world: World
+    fps: float
+    events: Events = field(default_factory=Events.empty)
+    method: str = "discrete"
+    broadphase: str = ""
+    substeps: int = 1
+    profile: dict = field(default_factory=dict)
+    warnings: list = field(default_factory=list)
+
+    @property
+    def frames(self) -> int:
+        return len(self.times) - 1
+
+    @property
+    def radii(self) -> np.ndarray:
+        return self.world.radii
+
+    @property
+    def masses(self) -> np.ndarray:
+        return self.world.masses
+
+    @property
+    def collisions(self) -> np.ndarray:
+        """Collisions of every kind per frame: (F,)."""
+        return self.wall_collisions + self.pair_collisions + self.segment_collisions
+
+    def kinetic_energy(self) -> np.ndarray:
+        """(F,) total kinetic energy at each frame (translation and rotation)."""
+        translation = 0.5 * np.einsum("n,fnk,fnk->f", self.masses, self.velocities, self.velocities)
+        return translation + 0.5 * np.einsum("n,fn,fn->f", self.world.inertias, self.angular_velocities,
+                                             self.angular_velocities)
+
+    def momentum(self) -> np.ndarray:
+        """(F, 2) total momentum at each frame."""
+        return np.einsum("n,fnk->fk", self.masses, self.velocities)
+
+    def save(self, path) -> Path:
+        """Write the trajectory to an .npz file (under a temporary name, renamed when complete)."""
+        path = Path(path)
+        arrays = {f"frame_{name}": getattr(self, name) for name in _FRAME_FIELDS}
+        arrays.update({f"event_{name}": getattr(self.events, name) for name in _EVENT_FIELDS})
+        arrays.update({f"world_{name}": getattr(self.world, name) for name in _WORLD_FIELDS})
+        meta = dict(format=FILE_FORMAT, fps=self.fps, method=self.method, broadphase=self.broadphase,
+                    substeps=self.substeps, restitution=self.world.restitution, profile=self.profile,
+                    warnings=[str(w) for w in self.warnings])
+        arrays["meta"] = np.array(json.dumps(meta))
+        handle, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}-", suffix=".npz")
+        try:
+            with os.fdopen(handle, "wb") as file:
+                np.savez_compressed(file, **arrays)
+            os.replace(temporary, path)
+        except BaseException:
+            Path(temporary).unlink(missing_ok=True)
+            raise
+        return path
+
+
+def load_trajectory(path) -> Trajectory:
+    """Read a file written by Trajectory.save. A missing, broken or foreign file, or one of
+    another format version, raises ValueError with one line."""
+    path = Path(path)
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            meta = json.loads(str(data["meta"]))
+            if meta.get("format") != FILE_FORMAT:
+                raise ValueError(f"trajectory file {path} has format version {meta.get('format')}; "
+                                 f"this collisim reads version {FILE_FORMAT}")
+            arrays = {key: data[key] for key in data.files if key != "meta"}
+    except ValueError:
+        raise
+    except (OSError, KeyError, EOFError, zipfile.BadZipFile, json.JSONDecodeError, TypeError) as error:
+        reason = "not found" if isinstance(error, FileNotFoundError) else "not a collisim trajectory file"
+        raise ValueError(f"cannot read trajectory {path}: {reason}") from None
+    try:
+        world = World(**{name: arrays[f"world_{name}"] for name in _WORLD_FIELDS}, restitution=meta["restitution"])
+        events = Events(*(arrays[f"event_{name}"] for name in _EVENT_FIELDS))
+        frames = {name: arrays[f"frame_{name}"] for name in _FRAME_FIELDS}
+        return Trajectory(**frames, world=world, fps=float(meta["fps"]), events=events, method=meta["method"],
+                          broadphase=meta["broadphase"], substeps=int(meta["substeps"]), profile=meta["profile"],
+                          warnings=list(meta["warnings"]))
+    except KeyError:
+        raise ValueError(f"cannot read trajectory {path}: not a collisim trajectory file") from None

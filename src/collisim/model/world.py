@@ -1,0 +1,130 @@
+"""The world: bodies (each with a pose, a velocity, a mass and a shape) and statics (the box
+walls and thin segments), as a structure of numpy arrays.
+
+Every per-body quantity is one array with the body index first, so the compiled kernels walk
+them with plain loops and numpy acts on all bodies at once. World units are math units: y
+points up, angles are counter-clockwise radians.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..palette import default_colors
+from .kinds import CIRCLE, SHAPE_NAMES
+
+
+def _float_array(name: str, value, shape: tuple) -> np.ndarray:
+    array = np.array(value, dtype=np.float64)
+    try:
+        array = np.broadcast_to(array, shape).copy()
+    except ValueError:
+        raise ValueError(f"{name} must have shape {_shape_text(shape)}, got {array.shape}") from None
+    if not np.all(np.isfinite(array)):
+        raise ValueError(f"{name} contains NaN or inf")
+    return array
+
+
+def _shape_text(shape: tuple) -> str:
+    return "(" + ", ".join(str(s) for s in shape) + ("," if len(shape) == 1 else "") + ")"
+
+
+class World:
+    """n bodies in an axis-aligned box, with constant accelerations.
+
+    Bodies:
+    positions: (n, 2)            centres of mass
+    velocities: (n, 2)
+    angles: (n,)                 orientation (a circle's shows only in how it is drawn)
+    angular_velocities: (n,)
+    accelerations: (n, 2)        constant; by default every body gets `gravity`
+    radii: (n,)                  > 0 (a scalar is broadcast): the circle's radius
+    masses: (n,)                 > 0; by default proportional to area (density 1)
+    inertias: (n,)               moment of inertia about the centre, from the shape (½·m·r²)
+    shapes: (n,) int8            shape kind of each body (kinds.CIRCLE)
+    colors: (n, 3) uint8         RGB; by default one colour per size class
+    Statics:
+    box: (xmin, ymin, xmax, ymax)  the walls
+    segments: (m, 4)             thin segments x0, y0, x1, y1 with no thickness
+    restitution: e in [0, 1] for every contact (1 = elastic)
+    """
+
+    def __init__(self, positions, velocities=None, radii=1.0, masses=None, *,
+                 box=(0.0, 0.0, 10.0, 10.0), gravity=(0.0, 0.0), accelerations=None,
+                 colors=None, restitution: float = 1.0, segments=None, angles=0.0,
+                 angular_velocities=0.0):
+        positions = np.asarray(positions, dtype=np.float64)
+        if positions.ndim != 2 or positions.shape[1] != 2:
+            positions = positions.reshape(-1, 2) if positions.size == 0 else positions
+        n = len(positions)
+        self.positions = _float_array("positions", positions, (n, 2))
+        self.velocities = _float_array("velocities", 0.0 if velocities is None else velocities, (n, 2))
+        self.angles = _float_array("angles", angles, (n,))
+        self.angular_velocities = _float_array("angular_velocities", angular_velocities, (n,))
+        self.gravity = _float_array("gravity", gravity, (2,))
+        accelerations = self.gravity if accelerations is None else accelerations
+        self.accelerations = _float_array("accelerations", accelerations, (n, 2))
+        self.radii = _float_array("radii", radii, (n,))
+        if masses is None:
+            masses = np.pi * self.radii ** 2
+        self.masses = _float_array("masses", masses, (n,))
+        self.shapes = np.full(n, CIRCLE, np.int8)
+        self.box = _float_array("box", box, (4,))
+        segments = np.zeros((0, 4)) if segments is None else np.reshape(np.asarray(segments, np.float64), (-1, 4))
+        self.segments = _float_array("segments", segments, segments.shape)
+        self.restitution = float(restitution)
+        if not np.isfinite(self.restitution):
+            raise ValueError("restitution contains NaN or inf")
+        self.colors = default_colors(self.radii) if colors is None else np.array(colors, dtype=np.uint8).reshape(n, 3)
+        self.validate()
+
+    @property
+    def n(self) -> int:
+        return len(self.positions)
+
+    @property
+    def inertias(self) -> np.ndarray:
+        """(n,) moments of inertia about the centres: ½·m·r² for a solid disc."""
+        return 0.5 * self.masses * self.radii ** 2
+
+    @property
+    def shape_names(self) -> list:
+        return [SHAPE_NAMES[kind] for kind in self.shapes]
+
+    @property
+    def uniform_acceleration(self) -> bool:
+        """True when every body has the same constant acceleration."""
+        return self.n == 0 or bool(np.all(self.accelerations == self.accelerations[0]))
+
+    def validate(self) -> None:
+        """Raise ValueError with one clear line for any state the engine cannot run."""
+        xmin, ymin, xmax, ymax = self.box
+        if not (xmax > xmin and ymax > ymin):
+            raise ValueError(f"box must have xmax > xmin and ymax > ymin, got {tuple(self.box)}")
+        if not 0.0 <= self.restitution <= 1.0:
+            raise ValueError(f"restitution must be in [0, 1], got {self.restitution}")
+        for name, values in (("radius", self.radii), ("mass", self.masses)):
+            bad = np.flatnonzero(values <= 0)
+            if bad.size:
+                raise ValueError(f"{name} must be > 0 (particle {bad[0]} has {name} {values[bad[0]]:g})")
+        too_big = np.flatnonzero(2 * self.radii > min(xmax - xmin, ymax - ymin))
+        if too_big.size:
+            i = too_big[0]
+            raise ValueError(f"particle {i} (radius {self.radii[i]:g}) is larger than the box")
+        r = self.radii[:, None]
+        outside = np.any((self.positions - r < self.box[:2]) | (self.positions + r > self.box[2:]), axis=1)
+        if outside.any():
+            i = np.flatnonzero(outside)[0]
+            x, y = self.positions[i]
+            raise ValueError(f"particle {i} at ({x:g}, {y:g}) with radius {self.radii[i]:g} is outside the box")
+
+    def copy(self, **changes) -> "World":
+        """A copy, with keyword changes (e.g. restitution=0.5), validated."""
+        fields = dict(positions=self.positions, velocities=self.velocities, radii=self.radii, masses=self.masses,
+                      box=self.box, gravity=self.gravity, accelerations=self.accelerations, colors=self.colors,
+                      restitution=self.restitution, segments=self.segments, angles=self.angles,
+                      angular_velocities=self.angular_velocities)
+        fields.update(changes)
+        return World(**fields)
+
+    def __repr__(self) -> str:
+        return f"World(n={self.n}, box={self.box.tolist()}, gravity={self.gravity.tolist()}, e={self.restitution:g})"

@@ -1,0 +1,41 @@
+"""A circle against the static geometry: thin segments (found through the static index)."""
+import numpy as np
+from numba import njit
+
+from ..arrays import grown
+from ..geometry.segment import segment_contact
+from ..statics.segment_index import segments_near
+
+
+@njit(cache=True)
+def circle_segment(positions, radii, i, segments, s):
+    """The contact of circle i with segment s as (nx, ny, depth, qx, qy): the unit normal from
+    the segment's closest point q towards the centre, the overlap depth (negative when apart)
+    and q."""
+    nx, ny, distance, qx, qy, _ = segment_contact(positions[i, 0], positions[i, 1], segments[s])
+    return nx, ny, radii[i] - distance, qx, qy
+
+
+@njit(cache=True)
+def segment_contacts(positions, radii, segments, index, contacts, near):
+    """Every (body, segment) pair that touches, bodies in index order, each body's segments in
+    index order. contacts: a (c, 2) int64 buffer (grown and returned); near: (m,) int64
+    scratch. Returns (contacts, count)."""
+    count = 0
+    for i in range(positions.shape[0]):
+        r = radii[i]
+        found = segments_near(index, positions[i, 0] - r, positions[i, 1] - r, positions[i, 0] + r,
+                              positions[i, 1] + r, near)
+        for k in range(found):
+            s = near[k]
+            if circle_segment(positions, radii, i, segments, s)[2] >= 0.0:
+                contacts = grown(contacts, count + 1)
+                contacts[count, 0], contacts[count, 1] = i, s
+                count += 1
+    return contacts, count
+
+
+@njit(cache=True)
+def empty_contacts():
+    """A (16, 2) int64 buffer for segment_contacts to grow."""
+    return np.empty((16, 2), np.int64)

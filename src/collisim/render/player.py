@@ -1,0 +1,200 @@
+"""The player: plays trajectories into panels of a canvas. It never simulates.
+
+A panel pulls blocks of a Trajectory (a Trajectory is its own single block) as video time
+advances, so memory holds one block per panel however long the video is. A panel sampled at
+its own fps shows its latest sample at each video frame (a 15 fps panel in a 60 fps video
+holds each sample for four video frames).
+"""
+from __future__ import annotations
+
+import math
+from collections import deque
+from dataclasses import dataclass, field
+from typing import Callable, Iterator
+
+import numpy as np
+
+from .. import palette
+from ..model.scene import RenderSettings
+from ..model.trajectory import Events
+from . import raster
+from .hud import draw_hud, hud_lines
+from .view import View
+
+TITLE_HEIGHT = 36
+HUD_HEIGHT = 26
+FLASH_SECONDS = 0.12
+
+
+@dataclass
+class FrameState:
+    """What an overlay or the HUD may read about the sample a panel shows.
+
+    positions, velocities: (n, 2); angles: (n,); candidates, pair_collisions: of this sample;
+    total_collisions: all collisions so far; events: the collisions of the sample's block up
+    to its time (Events); counters: the running RenderSettings.counters."""
+    time: float
+    sample: int
+    positions: np.ndarray
+    velocities: np.ndarray
+    angles: np.ndarray
+    candidates: int
+    pair_collisions: int
+    total_collisions: int
+    events: Events
+    counters: dict = field(default_factory=dict)
+
+
+@dataclass
+class PanelSource:
+    """One panel to play: its trajectory blocks (made when the panel starts), how to draw them,
+    its title, and its length in samples after the first (frames) at fps."""
+    blocks: Callable[[], Iterator]
+    settings: RenderSettings
+    title: str
+    frames: int
+    fps: float
+
+
+@dataclass
+class Chapter:
+    """Panels played side by side for `frames` video frames."""
+    panels: list
+    frames: int
+    layout: tuple = None
+
+
+class PanelPlayer:
+    """Plays one panel's trajectory into a rectangle of the canvas."""
+
+    def __init__(self, source: PanelSource, rect: tuple, video_fps: float):
+        self.source, self.settings, self.title, self.video_fps = source, source.settings, source.title, video_fps
+        self.rect = rect
+        left, top, width, height = rect
+        title_height = TITLE_HEIGHT if self.title else 0
+        hud_height = HUD_HEIGHT if self.settings.hud else 0
+        self.content = (left, top + title_height, width, height - title_height)
+        self._blocks = source.blocks()
+        self._block = next(self._blocks)
+        self.world = self._block.world
+        self.view = View(self.world.box, (left, top + title_height, width, height - title_height - hud_height))
+        self.text_scale = max(0.38, min(0.55, width / 1280 * 0.8))
+        self._first, self._sample, self._collisions = 0, -1, 0
+        self._history = deque(maxlen=max(self.settings.trails, 1))
+        self._recent = [self._block.events]
+        self._counters = dict.fromkeys(self.settings.counters, 0)
+        self.state = None
+
+    @property
+    def profile(self) -> dict:
+        return self._block.profile
+
+    def advance(self, video_frame: int) -> None:
+        """Move to the sample shown at this video frame (never backwards), visiting every
+        sample on the way so trails, counts and counters build up."""
+        target = min(int(math.floor(video_frame * self.source.fps / self.video_fps + 1e-9)), self.source.frames)
+        while self._sample < target:
+            self._sample += 1
+            row = self._row(self._sample)
+            self._collisions += int(self._block.collisions[row])
+            self._history.append(self._block.positions[row])
+            before, self.state = self.state, self._state(row)
+            if before is not None:
+                for name, count in self.settings.counters.items():
+                    self._counters[name] += int(count(before, self.state))
+            self.state.counters = dict(self._counters)
+
+    def _row(self, sample: int) -> int:
+        while sample >= self._first + len(self._block.times):
+            self._first += len(self._block.times)
+            self._block = next(self._blocks)
+            self._recent = self._recent[-1:] + [self._block.events]
+        return sample - self._first
+
+    def _state(self, row: int) -> FrameState:
+        b = self._block
+        past = b.events.take(b.events.time <= b.times[row] + 1e-12)
+        return FrameState(float(b.times[row]), self._sample, b.positions[row], b.velocities[row], b.angles[row],
+                          int(b.candidates[row]), int(b.pair_collisions[row]), self._collisions, past)
+
+    def draw(self, canvas) -> None:
+        world, settings, state = self.world, self.settings, self.state
+        if self.title:
+            left, top, width, _ = self.rect
+            raster.draw_text(canvas, self.title, (left + width // 2, top + 26), scale=self.text_scale * 1.25,
+                             thickness=2, anchor="center")
+        raster.draw_box(canvas, self.view, world.box)
+        raster.draw_segments(canvas, self.view, world.segments)
+        if settings.trails:
+            raster.draw_trails(canvas, self.view, np.array(self._history), world.colors)
+        raster.draw_circles(canvas, self.view.to_pixels(state.positions), self.view.length(world.radii), world.colors)
+        if settings.flash:
+            self._draw_flashes(canvas, state.time)
+        if settings.arrows:
+            raster.draw_arrows(canvas, self.view, state.positions, state.velocities, settings.arrow_seconds)
+        if settings.overlay is not None:
+            settings.overlay(canvas, self.view, state)
+        if settings.hud:
+            lines = hud_lines(self._block, self.source.frames, state, compact=self.rect[2] < 800)
+            draw_hud(canvas, self.content, lines, self.text_scale)
+
+    def _draw_flashes(self, canvas, now: float) -> None:
+        for events in self._recent:
+            fresh = (events.time <= now + 1e-12) & (events.time > now - FLASH_SECONDS)
+            if not fresh.any():
+                continue
+            age = (now - events.time[fresh]) / FLASH_SECONDS
+            radii = self.view.length(self.world.radii[events.i[fresh]]) * (0.3 + 0.5 * age)
+            raster.draw_rings(canvas, self.view.to_pixels(events.point[fresh]), radii, palette.FLASH, 1)
+
+
+def panel_rects(count: int, size: tuple, layout=None) -> list:
+    """Split the canvas into a grid of equal panels: `layout` (rows, cols), or up to three in a row."""
+    width, height = size
+    if layout is None:
+        cols = count if count <= 3 else math.ceil(count / 2)
+        rows = math.ceil(count / cols)
+    else:
+        rows, cols = layout
+    w, h = width // cols, height // rows
+    return [((k % cols) * w, (k // cols) * h, w, h) for k in range(count)]
+
+
+def make_players(chapter: Chapter, size: tuple, video_fps: float) -> list:
+    rects = panel_rects(len(chapter.panels), size, chapter.layout)
+    return [PanelPlayer(source, rect, video_fps) for source, rect in zip(chapter.panels, rects)]
+
+
+def draw_frame(canvas, players: list, frame: int) -> None:
+    """Draw video frame `frame` of the players over the canvas's background."""
+    for player in players:
+        player.advance(frame)
+        player.draw(canvas)
+
+
+class Timeline:
+    """Which chapter, and which of its frames, each video frame shows."""
+
+    def __init__(self, chapters: list, size: tuple, fps: float):
+        self.chapters, self.size, self.fps = chapters, size, fps
+        self.background = np.empty((size[1], size[0], 3), np.uint8)
+        self.background[:] = raster.bgr(palette.BACKGROUND)
+        self.starts = np.cumsum([0] + [c.frames for c in chapters])
+        self._index, self._players, self._finished = -1, [], []
+
+    def draw(self, canvas, frame: int) -> None:
+        index = min(int(np.searchsorted(self.starts, frame, side="right")) - 1, len(self.chapters) - 1)
+        chapter = self.chapters[index]
+        if index != self._index:
+            self._finished.extend(self._players)
+            self._index, self._players = index, make_players(chapter, self.size, self.fps)
+        local = min(frame - int(self.starts[index]), chapter.frames - 1)
+        np.copyto(canvas, self.background)  # a plain copy: filling with a colour is ten times slower
+        draw_frame(canvas, self._players, local)
+
+    def profile(self) -> dict:
+        total = {}
+        for player in self._finished + self._players:
+            for phase, seconds in player.profile.items():
+                total[phase] = total.get(phase, 0.0) + seconds
+        return total

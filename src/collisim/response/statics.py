@@ -1,0 +1,87 @@
+"""Bouncing off the static geometry: the box walls and thin segments.
+
+Walls, as the video describes them, done right. A wall has infinite mass, so the response
+flips the normal velocity component (scaled by the restitution e). Three details make it
+robust:
+
+* respond only while moving toward the wall; a body that is already leaving is never
+  flipped back, so it cannot stick or jitter at the edge;
+* the distance travelled beyond the wall is reflected back inside (scaled by e), which is
+  where the body would be had it bounced at the right moment; a very fast body may cross the
+  box several times in one step, and the loop reflects it until it is inside, so no speed can
+  carry it out;
+* under a constant acceleration the speed is made consistent with the reflected position
+  (v² = v_c² - 2·g·h, with v_c the speed at the contact plane), so a bounce neither creates
+  nor destroys energy: an elastic ball keeps its apex.
+
+Segments: only if the body moves towards the segment (v·n < 0), the normal velocity is
+reflected with restitution, v_n -> -e v_n, and the body is put at exactly its radius from the
+segment along n. This is a check at step times only: a body that moves more than its
+diameter in one step can jump over a segment (tunnelling); method `ccd` cannot.
+"""
+import math
+
+from numba import njit
+
+from ..geometry.box import centre_range
+from ..narrowphase.statics import circle_segment
+
+
+@njit(cache=True, error_model="numpy")
+def _reflect(overshoot, speed_in, pull, restitution):
+    """Reflect a body that went `overshoot` past the contact plane moving at `speed_in`
+    (> 0, toward the wall) while accelerated toward the wall by `pull`.
+
+    Returns (distance back inside, speed away from the wall, speed change)."""
+    contact_speed = math.sqrt(max(speed_in * speed_in - 2.0 * pull * overshoot, 0.0))
+    rebound = restitution * contact_speed
+    inside = restitution * overshoot
+    if pull > 0.0 and rebound * rebound < 2.0 * pull * inside:
+        inside = rebound * rebound / (2.0 * pull)  # it cannot climb that far: stop at the apex
+    speed_out = math.sqrt(max(rebound * rebound - 2.0 * pull * inside, 0.0))
+    return inside, speed_out, contact_speed + rebound
+
+
+@njit(cache=True, error_model="numpy")
+def bounce_between_walls(positions, velocities, accelerations, radii, masses, box, restitution, i, axis):
+    """Bring body i, whose centre is past a wall on `axis`, back inside, in place.
+
+    Returns (bounces off the low wall, off the high wall, impulse on each): several bounces
+    off one wall in one step carry their summed impulse."""
+    low, high = centre_range(box, axis, radii[i])
+    x, v, a = positions[i, axis], velocities[i, axis], accelerations[i, axis]
+    bounces_low, bounces_high, impulse_low, impulse_high = 0, 0, 0.0, 0.0
+    if high <= low:  # the body exactly fits: it can only sit in the middle
+        x, v = 0.5 * (low + high), 0.0
+    while x < low or x > high:
+        if x < low and v < 0.0:
+            inside, speed, dv = _reflect(low - x, -v, -a, restitution)
+            x, v = low + inside, speed
+            impulse_low += masses[i] * dv
+            bounces_low += 1
+        elif x > high and v > 0.0:
+            inside, speed, dv = _reflect(x - high, v, a, restitution)
+            x, v = high - inside, -speed
+            impulse_high += masses[i] * dv
+            bounces_high += 1
+        else:  # beyond the wall but already leaving it: put it back on the wall
+            x = min(max(x, low), high)
+    positions[i, axis] = x
+    velocities[i, axis] = v
+    return bounces_low, bounces_high, impulse_low, impulse_high
+
+
+@njit(cache=True, error_model="numpy")
+def bounce_off_segment(positions, velocities, radii, masses, segments, i, s, restitution):
+    """Respond to body i touching segment s, in place. Returns (impulse, contact x, contact y);
+    impulse 0 means it was not approaching."""
+    nx, ny, _, qx, qy = circle_segment(positions, radii, i, segments, s)
+    vn = velocities[i, 0] * nx + velocities[i, 1] * ny
+    if positions[i, 0] == qx and positions[i, 1] == qy and vn > 0.0:
+        nx, ny, vn = -nx, -ny, -vn  # centre on the segment: the normal faces the incoming side
+    if vn >= 0.0:
+        return 0.0, qx, qy
+    velocities[i, 0] -= (1.0 + restitution) * vn * nx
+    velocities[i, 1] -= (1.0 + restitution) * vn * ny
+    positions[i, 0], positions[i, 1] = qx + radii[i] * nx, qy + radii[i] * ny
+    return masses[i] * (1.0 + restitution) * -vn, qx, qy
