@@ -151,7 +151,7 @@ def barrier_world():
 def test_barrier_crossing_within_the_segment():
     positions = np.array([[[4.0, 5.0], [1.0, 1.0]], [[6.0, 5.0], [1.0, 1.0]], [[6.5, 5.0], [1.0, 1.0]]])
     traj = trajectory(positions)
-    np.testing.assert_array_equal(metrics.missed_barrier_crossings(traj, barrier_world()), [0, 1, 0])
+    np.testing.assert_array_equal(metrics.missed_segment_crossings(traj, barrier_world()), [0, 1, 0])
 
 
 def test_barrier_crossing_beside_the_segment_or_bouncing_back_is_not_counted():
@@ -159,9 +159,9 @@ def test_barrier_crossing_beside_the_segment_or_bouncing_back_is_not_counted():
     bounced = np.array([[[4.0, 5.0], [1.0, 1.0]], [[4.5, 5.0], [1.0, 1.0]]])
     diagonal = np.array([[[4.0, 1.0], [1.0, 1.0]], [[6.0, 3.0], [1.0, 1.0]]])    # meets x = 5 at y = 2
     world = barrier_world()
-    assert metrics.missed_barrier_crossings(trajectory(beside), world).sum() == 0
-    assert metrics.missed_barrier_crossings(trajectory(bounced), world).sum() == 0
-    assert metrics.missed_barrier_crossings(trajectory(diagonal), world).sum() == 1   # end point counts
+    assert metrics.missed_segment_crossings(trajectory(beside), world).sum() == 0
+    assert metrics.missed_segment_crossings(trajectory(bounced), world).sum() == 0
+    assert metrics.missed_segment_crossings(trajectory(diagonal), world).sum() == 1   # end point counts
 
 
 # --- walls ---------------------------------------------------------------------------------------

@@ -1,4 +1,4 @@
-"""Time of impact (collisim.ccd.toi) and the discrete thin-barrier check
+"""Time of impact (collisim.geometry.toi) and the discrete thin-barrier check
 (collisim.narrowphase.segments): closed forms, edge cases, and properties."""
 import math
 from decimal import Decimal, getcontext
@@ -192,7 +192,7 @@ def test_segment_touching_but_separating_is_no_impact():
     assert time_to_segment(0.0, 0.5, 0.0, -1.0, 0.0, 0.0, 0.5, *SEGMENT, INF)[0] == 0.0
 
 
-# --- discrete barriers (narrowphase.segments) -----------------------------------------------
+# --- discrete segments (narrowphase.segments) -----------------------------------------------
 
 def test_discrete_segment_bounces_slow_particle_and_pushes_it_out():
     positions = np.array([[0.0, 0.45]])

@@ -2,7 +2,7 @@
 
 Each lane holds one experiment, far from the others; 40 lanes sample 40 start phases of the
 frame at which the contact would happen. Discrete detection sees the contact only if a frame
-lands while the bodies overlap on their approach: a window of r (barrier) or r1 + r2 (pair)
+lands while the bodies overlap on their approach: a window of r (segment) or r1 + r2 (pair)
 out of the s = v·dt travelled per frame, so the tunnelling fraction is max(0, 1 - r/s).
 """
 import numpy as np
@@ -24,7 +24,7 @@ def expected_fraction(window, travel):
 
 
 def barrier_lanes(ratio, method, radius=0.5):
-    """A particle per lane flying at a thin vertical barrier at x = 0."""
+    """A particle per lane flying at a thin vertical segment at x = 0."""
     travel = ratio * radius
     speed = travel * FPS
     phases = (np.arange(PHASES) + 0.5) / PHASES

@@ -255,7 +255,7 @@ LANE = 10.0
 
 
 def barrier_lanes(travel_in_radii, radius=0.5):
-    """A particle per lane flying at one thin vertical barrier at x = 0, contact at 40 phases."""
+    """A particle per lane flying at one thin vertical segment at x = 0, contact at 40 phases."""
     travel = travel_in_radii * radius
     phases = (np.arange(PHASES) + 0.5) / PHASES
     x0 = -radius - 3.0 * travel - phases * travel
@@ -291,7 +291,7 @@ def test_barrier_tunnelling_is_the_same_in_pymunk_and_discrete(travel):
     assert abs(through[1].sum() - PHASES * max(0.0, 1 - 1 / travel)) <= 1
     assert not through[0].any()      # ccd finds every contact in time
     for traj, passed in zip((ccd, discrete, mirror), through):
-        assert metrics.missed_barrier_crossings(traj, scene.world).sum() == passed.sum()
+        assert metrics.missed_segment_crossings(traj, scene.world).sum() == passed.sum()
 
 
 @pytest.mark.parametrize("travel", [0.75, 1.5, 6.5])
@@ -352,7 +352,7 @@ def test_compare_cli_prints_a_table_for_a_scene_of_chapters_and_panels(cli):
     result = cli("compare", "tunneling", "--seconds", "1", "--methods", "discrete x1", "ccd")
     assert result.returncode == 0, result.stderr
     lines = result.stdout.splitlines()
-    assert any(line.startswith("4 particles, 1 barrier: ccd") for line in lines)
+    assert any(line.startswith("4 particles, 1 segment: ccd") for line in lines)
     assert any(line.startswith("6 particles: discrete x1") for line in lines)
     json_result = cli("compare", "two_bodies", "--seconds", "1", "--json")
     import json

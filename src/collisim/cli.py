@@ -86,7 +86,12 @@ def add_bench_parser(commands) -> None:
     accuracy.add_argument("--workloads", "--scenes", nargs="+", help="slow_gas dense_gas fast_gas gravity_bounce")
     accuracy.add_argument("--seconds", type=float, default=10.0)
     accuracy.add_argument("--repeats", type=int, default=3)
-    for parser in (broad, render, accuracy):
+    segments = kinds.add_parser("segments", help="the discrete step with 2 000 static segments among 18 000 "
+                                                 "bodies against the same gas without them")
+    segments.add_argument("--bodies", type=int, default=18_000)
+    segments.add_argument("--segments", type=int, default=2_000)
+    segments.add_argument("--repeats", type=int, default=3)
+    for parser in (broad, render, accuracy, segments):
         parser.add_argument("--out", type=Path, default=Path("renders/bench"), help="folder for CSV and PNG")
         parser.add_argument("--no-progress", action="store_true")
 
@@ -168,6 +173,13 @@ def cmd_bench(args) -> int:
                       progress=not args.no_progress)
         print(format_accuracy_budget(figures["budget"]))
         print(f"wrote {figures['csv']} and {len(figures['png'])} charts")
+    elif args.kind == "segments":
+        from .analysis.bench.segments import run
+        if args.bodies < 2 or args.segments < 1 or args.repeats < 1:
+            raise ValueError("bodies must be >= 2, segments >= 1 and repeats >= 1")
+        f = run(args.out, n=args.bodies, m=args.segments, repeats=args.repeats)
+        print(f"{f['bodies']} bodies: {1e3 * f['seconds_per_frame_without']:.2f} ms a frame; with {f['segments']} "
+              f"segments {1e3 * f['seconds_per_frame_with']:.2f} ms ({f['ratio']:.2f} x); wrote {f['json']}")
     elif args.kind == "render":
         from .analysis.bench.render import run
         _check_positive_seconds(args.seconds)

@@ -11,9 +11,9 @@ panels' own method and substeps are ignored, since the point is to run all metho
 Each row (a dict of plain numbers, ready for JSON):
     panel, method, label, seconds (simulated), cost (wall seconds per simulated second, after a
     warm-up run so compilation is not counted), energy_drift, momentum_drift (None when walls,
-    barriers or accelerations act on the particles: then momentum is not conserved and the
+    segments or accelerations act on the particles: then momentum is not conserved and the
     number would mean nothing), max_overlap (radii), outside_end / outside_ever (particles whose
-    centre left the box), missed_pairs / missed_barriers (pass-throughs, see collisim.analysis.metrics),
+    centre left the box), missed_pairs / missed_segments (pass-throughs, see collisim.analysis.metrics),
     collisions / pair_collisions / wall_collisions / segment_collisions (as each method counts
     them), wall_pressure, position_error (RMS distance from the ccd run at `horizon` seconds, in
     radii; None if ccd cannot run the world), horizon, warnings, and error (None, or why the
@@ -22,9 +22,9 @@ Each row (a dict of plain numbers, ready for JSON):
 Where pymunk and collisim differ, and which one is right
 -------------------------------------------------------
 Measured on particles_250 and on 12 seeds of the same gas (10 s each), single_bounce,
-two_bodies and barrier/pair tunnelling lanes (tests/test_vs_pymunk.py):
+two_bodies and segment/pair tunnelling lanes (tests/test_vs_pymunk.py):
 
-* Isolated pair contacts, restitution (pairs and walls), barrier and pair tunnelling: the same.
+* Isolated pair contacts, restitution (pairs and walls), segment and pair tunnelling: the same.
   With the same positions (both step p += v·dt without gravity) pymunk's contact solve gives
   collisim's two-body response to round-off, and the same lanes tunnel, lane by lane.
 * Kinetic energy of the gas: conserved by all three (drift ~1e-14); pymunk's position
@@ -48,12 +48,10 @@ two_bodies and barrier/pair tunnelling lanes (tests/test_vs_pymunk.py):
   excess pressure. ccd is right; both discrete engines are first order in dt, as expected.
 * Overlaps in the frames: pymunk lets contacts overlap for a step and removes them on the next,
   up to 1.1 radii of the smaller circle in particles_250 at 60 fps. collisim's discrete method
-  separates each pair at once, yet its frames still show overlaps of up to 0.33 radii: (a) its
-  step resolves walls after pairs, so a particle pushed toward a wall by a pair's overlap
-  removal is reflected back into its partner (a fifth of the cases, the deepest ones), and
-  (b) sequential pair resolution in a cluster of three pushes one into a neighbour already
-  resolved. Both are repaired at the next step; a second pass over the touched pairs after the
-  walls would remove (a). ccd never overlaps.
+  separates each pair at once, and separates the step's contacts once more after the walls
+  (a wall bounce can push a particle back into its partner), yet its frames still show overlaps
+  of up to 0.28 radii: sequential pair resolution in a cluster of three pushes one into a
+  neighbour already resolved. That is repaired at the next step. ccd never overlaps.
 * Grazing contacts: a discrete step sees a pair only if it overlaps at a step end, so a grazing
   contact whose overlap lasts less than a step is missed: 0.6-0.7 % of the pair collisions of
   particles_250 at 60 fps, in both collisim discrete and pymunk; none in ccd (missed_pairs).
@@ -131,7 +129,7 @@ def render_comparison(rows: list, path, size=None):
 def distinct_worlds(scene) -> list:
     """(title, single-world scene) for each distinct world of a scene. A scene of panels or
     chapters may show one world under several methods; compare runs each world once under all
-    methods, titled by what it holds ("4 particles, 1 barrier")."""
+    methods, titled by what it holds ("4 particles, 1 segment")."""
     if scene.world is not None:
         return [("", scene)]
     found = {}
@@ -146,7 +144,7 @@ def distinct_worlds(scene) -> list:
 def _describe_world(world) -> str:
     text = f"{world.n} particle{'s' * (world.n != 1)}"
     if len(world.segments):
-        text += f", {len(world.segments)} barrier{'s' * (len(world.segments) != 1)}"
+        text += f", {len(world.segments)} segment{'s' * (len(world.segments) != 1)}"
     return text
 
 
@@ -191,7 +189,7 @@ def _timed_run(scene, engine: str, substeps: int, timed: bool = True) -> tuple:
 
 
 _MEASURES = ("cost", "energy_drift", "momentum_drift", "max_overlap", "outside_end", "outside_ever",
-             "missed_pairs", "missed_barriers", "collisions", "pair_collisions", "wall_collisions",
+             "missed_pairs", "missed_segments", "collisions", "pair_collisions", "wall_collisions",
              "segment_collisions", "wall_pressure", "position_error")
 
 
@@ -218,7 +216,7 @@ def measure(world, traj, reference, horizon: float, cost=None) -> dict:
         max_overlap=metrics.max_overlap(traj),
         outside_end=outside_end, outside_ever=outside_ever,
         missed_pairs=int(metrics.missed_collisions(traj).sum()),
-        missed_barriers=int(metrics.missed_barrier_crossings(traj, world).sum()),
+        missed_segments=int(metrics.missed_segment_crossings(traj, world).sum()),
         collisions=int(traj.collisions.sum()), pair_collisions=int(traj.pair_collisions.sum()),
         wall_collisions=int(traj.wall_collisions.sum()), segment_collisions=int(traj.segment_collisions.sum()),
         wall_pressure=metrics.wall_pressure(traj, world),
@@ -235,7 +233,7 @@ _COLUMNS = (  # header, unit, how to show a row
     ("momentum drift", "rel", lambda r: _number(r["momentum_drift"], "{:.1e}", none="n/a")),
     ("max overlap", "radii", lambda r: _number(r["max_overlap"], "{:.3g}")),
     ("outside", "end/ever", lambda r: _pair(r["outside_end"], r["outside_ever"])),
-    ("missed", "pairs/barrier", lambda r: _pair(r["missed_pairs"], r["missed_barriers"])),
+    ("missed", "pairs/segment", lambda r: _pair(r["missed_pairs"], r["missed_segments"])),
     ("collisions", "pair+wall+seg", lambda r: _number(r["collisions"], "{:d}")),
     ("wall pressure", "F/L", lambda r: _number(r["wall_pressure"], "{:.4g}")),
     ("vs ccd", "radii", lambda r: _number(r["position_error"], "{:.2g}")),

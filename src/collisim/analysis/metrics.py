@@ -1,8 +1,8 @@
 """Accuracy measurements of a recorded Trajectory: small pure numpy functions.
 
 Shared by `collisim compare` and `collisim bench accuracy`. Shapes: F samples (frames + 1),
-n particles, m thin barriers. Every function reads the trajectory (and the World it started
-from, for the box, the accelerations and the barriers) and changes nothing.
+n particles, m thin segments. Every function reads the trajectory (and the World it started
+from, for the box, the accelerations and the segments) and changes nothing.
 """
 from __future__ import annotations
 
@@ -46,7 +46,7 @@ def energy_drift(traj, world) -> float:
 
 def momentum_drift(traj) -> float:
     """|P_end − P_0| / Σ m_i·|v_i(0)|: the change of total momentum relative to the momentum
-    the particles carry. Walls, barriers and accelerations change momentum legitimately, so this
+    the particles carry. Walls, segments and accelerations change momentum legitimately, so this
     only means something for a world where nothing but pair collisions act (the caller decides)."""
     momentum = traj.momentum()                                     # (F, 2)
     scale = float(np.sum(traj.masses * np.linalg.norm(traj.velocities[0], axis=1)))
@@ -180,15 +180,15 @@ def _passed_through(before, after, radii, pairs, busy) -> int:
     return int(np.count_nonzero(inside & (closest < reach)))
 
 
-def missed_barrier_crossings(traj, world) -> np.ndarray:
-    """(F,) per frame: particles whose centre crossed a thin barrier between samples.
+def missed_segment_crossings(traj, world) -> np.ndarray:
+    """(F,) per frame: particles whose centre crossed a thin segment between samples.
 
     A crossing is a strict change of side of a segment's line between t_{f-1} and t_f where the
     straight path between the two samples meets the line within the segment (end points
-    included). A barrier handled correctly never lets a centre through, so every crossing is a
+    included). A segment handled correctly never lets a centre through, so every crossing is a
     miss, whether or not the method registered a collision with it (a discrete method may see
     the contact after the centre has passed and let it go on). A particle that crosses several
-    barriers in one frame counts once. Frame 0 is always 0.
+    segments in one frame counts once. Frame 0 is always 0.
     """
     count = np.zeros(len(traj.times), np.int64)
     if len(world.segments) == 0 or len(traj.times) < 2:

@@ -30,7 +30,7 @@ from ..narrowphase.statics import empty_contacts, segment_contacts
 from ..response.pairs import resolve_pairs, separate_pairs
 from ..response.statics import bounce_between_walls, bounce_off_segment
 from ..statics.segment_index import build_segment_index
-from .eventlog import log_events, new_log, record
+from .eventlog import append, log_events, new_log, with_room
 from .integrate import integrate
 from .profile import Profile, cycles
 
@@ -73,9 +73,10 @@ def _pair_phases(bodies, statics, broad, lo, hi, log, now, counts, phase_cycles,
     impulse, point = np.empty(contacts.shape[0]), np.empty((contacts.shape[0], 2))
     counts[PAIR] += resolve_pairs(b.shapes, b.positions, b.velocities, b.masses, b.radii, contacts,
                                   contacts.shape[0], statics.restitution, impulse, point)
+    log = with_room(log, contacts.shape[0])
     for c in range(contacts.shape[0]):
         if impulse[c] > 0.0:
-            log = record(log, now, PAIR, contacts[c, 0], contacts[c, 1], impulse[c], point[c, 0], point[c, 1])
+            append(log, now, PAIR, contacts[c, 0], contacts[c, 1], impulse[c], point[c, 0], point[c, 1])
     t = _lap(phase_cycles, RESPONSE, t)
     return contacts, pairs.shape[0], log, t
 
@@ -93,13 +94,15 @@ def statics_phase(bodies, statics, scratch, log, now, counts):
     b, s = bodies, statics
     if s.segments.shape[0] > 0:
         found, count = segment_contacts(b.positions, b.radii, s.segments, s.index, scratch[0], scratch[1])
+        log = with_room(log, count)
         for c in range(count):
             i, k = found[c, 0], found[c, 1]
             impulse, x, y = bounce_off_segment(b.positions, b.velocities, b.radii, b.masses, s.segments, i, k,
                                                s.restitution)
             if impulse > 0.0:
-                log = record(log, now, SEGMENT, i, k, impulse, x, y)
+                append(log, now, SEGMENT, i, k, impulse, x, y)
                 counts[SEGMENT] += 1
+    log = with_room(log, 4 * b.positions.shape[0])  # at most one event per body and wall
     for i in range(b.positions.shape[0]):
         for axis in range(2):
             low, high = s.box[axis] + b.radii[i], s.box[axis + 2] - b.radii[i]
@@ -108,19 +111,19 @@ def statics_phase(bodies, statics, scratch, log, now, counts):
             low_bounces, high_bounces, low_impulse, high_impulse = bounce_between_walls(
                 b.positions, b.velocities, b.accelerations, b.radii, b.masses, s.box, s.restitution, i, axis)
             if low_bounces > 0:
-                log = _record_wall(log, now, b.positions, s.box, i, axis, 0, low_impulse)
+                _log_wall(log, now, b.positions, s.box, i, axis, 0, low_impulse)
             if high_bounces > 0:
-                log = _record_wall(log, now, b.positions, s.box, i, axis, 1, high_impulse)
+                _log_wall(log, now, b.positions, s.box, i, axis, 1, high_impulse)
             counts[WALL] += low_bounces + high_bounces
     return log
 
 
 @njit(cache=True)
-def _record_wall(log, now, positions, box, i, axis, side, impulse):
+def _log_wall(log, now, positions, box, i, axis, side, impulse):
     """Log body i's bounce off wall 2·axis + side, at the wall beside the body."""
     on_wall, along = box[axis + 2 * side], positions[i, 1 - axis]
     x, y = (on_wall, along) if axis == 0 else (along, on_wall)
-    return record(log, now, WALL, i, 2 * axis + side, impulse, x, y)
+    append(log, now, WALL, i, 2 * axis + side, impulse, x, y)
 
 
 @njit(cache=True)

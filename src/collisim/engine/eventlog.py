@@ -20,16 +20,25 @@ def new_log(capacity):
 
 
 @njit(cache=True)
-def record(log, t, kind, i, j, impulse, x, y):
-    """Append a collision; returns the log (with larger arrays when it was full)."""
+def with_room(log, extra):
+    """The log with room for `extra` more collisions: the same one, or one with larger arrays.
+
+    Reserve before a loop and append inside it: a log reassigned inside a loop makes numba
+    count references to its seven arrays at every iteration, which costs more than the loop."""
+    need = log.size[0] + extra
+    if need <= log.time.shape[0]:
+        return log
+    return EventLog(grown(log.time, need), grown(log.kind, need), grown(log.i, need), grown(log.j, need),
+                    grown(log.impulse, need), grown(log.point, need), log.size)
+
+
+@njit(cache=True)
+def append(log, t, kind, i, j, impulse, x, y):
+    """Add a collision to a log that has room for it (see with_room)."""
     k = log.size[0]
-    if k == log.time.shape[0]:
-        log = EventLog(grown(log.time, k + 1), grown(log.kind, k + 1), grown(log.i, k + 1), grown(log.j, k + 1),
-                       grown(log.impulse, k + 1), grown(log.point, k + 1), log.size)
     log.time[k], log.kind[k], log.i[k], log.j[k], log.impulse[k] = t, kind, i, j, impulse
     log.point[k, 0], log.point[k, 1] = x, y
     log.size[0] = k + 1
-    return log
 
 
 def log_events(log: EventLog, time_offset: float = 0.0) -> Events:

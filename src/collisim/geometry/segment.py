@@ -43,3 +43,26 @@ def segment_contact(px, py, segment):
     qx, qy, u = closest_on_segment(px, py, x0, y0, x1, y1)
     nx, ny, distance = contact_normal(px, py, qx, qy, x0, y0, x1, y1)
     return nx, ny, distance, qx, qy, u
+
+
+@njit(cache=True, error_model="numpy")
+def clip_step(p, q, t0, t1):
+    """One Liang–Barsky step: narrow a segment's parameter range [t0, t1] to the half-plane
+    p·t <= q. Returns the new range, empty (t0 > t1) if nothing is left."""
+    if p == 0.0:  # parallel to this edge: all in or all out
+        return (t0, t1) if q >= 0.0 else (1.0, 0.0)
+    t = q / p
+    if p < 0.0:
+        return max(t0, t), t1
+    return t0, min(t1, t)
+
+
+@njit(cache=True, error_model="numpy")
+def segment_meets_rect(x0, y0, x1, y1, left, bottom, right, top):
+    """Does the segment (x0, y0)-(x1, y1) meet the closed rectangle? (Liang–Barsky)"""
+    dx, dy = x1 - x0, y1 - y0
+    lo, hi = clip_step(-dx, x0 - left, 0.0, 1.0)
+    lo, hi = clip_step(dx, right - x0, lo, hi)
+    lo, hi = clip_step(-dy, y0 - bottom, lo, hi)
+    lo, hi = clip_step(dy, top - y0, lo, hi)
+    return lo <= hi

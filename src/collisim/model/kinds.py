@@ -5,10 +5,8 @@ Event kinds label every collision in a Trajectory, whichever method found it; th
 method numbers its bookkeeping events after them (engine/ccd/eventqueue.py).
 """
 CIRCLE = 0
-SHAPE_NAMES = ("circle",)
 
 WALL, PAIR, SEGMENT = 0, 1, 2
-EVENT_NAMES = ("wall", "pair", "segment")
 
 # A wall event's `j`: which side of the box (2·axis + side), in this order.
 WALL_SIDES = ("left", "right", "bottom", "top")

@@ -149,15 +149,15 @@ def load_trajectory(path) -> Trajectory:
     try:
         with np.load(path, allow_pickle=False) as data:
             meta = json.loads(str(data["meta"]))
-            if meta.get("format") != FILE_FORMAT:
-                raise ValueError(f"trajectory file {path} has format version {meta.get('format')}; "
-                                 f"this collisim reads version {FILE_FORMAT}")
             arrays = {key: data[key] for key in data.files if key != "meta"}
-    except ValueError:
-        raise
-    except (OSError, KeyError, EOFError, zipfile.BadZipFile, json.JSONDecodeError, TypeError) as error:
-        reason = "not found" if isinstance(error, FileNotFoundError) else "not a collisim trajectory file"
-        raise ValueError(f"cannot read trajectory {path}: {reason}") from None
+    except FileNotFoundError:
+        raise ValueError(f"cannot read trajectory {path}: not found") from None
+    except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile, TypeError):
+        raise ValueError(f"cannot read trajectory {path}: not a collisim trajectory file") from None
+    if not isinstance(meta, dict) or meta.get("format") != FILE_FORMAT:
+        version = meta.get("format") if isinstance(meta, dict) else None
+        raise ValueError(f"trajectory file {path} has format version {version}; "
+                         f"this collisim reads version {FILE_FORMAT}")
     try:
         world = World(**{name: arrays[f"world_{name}"] for name in _WORLD_FIELDS}, restitution=meta["restitution"])
         events = Events(*(arrays[f"event_{name}"] for name in _EVENT_FIELDS))

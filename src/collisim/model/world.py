@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..palette import default_colors
-from .kinds import CIRCLE, SHAPE_NAMES
+from .kinds import CIRCLE
 
 
 def _float_array(name: str, value, shape: tuple) -> np.ndarray:
@@ -85,10 +85,6 @@ class World:
     def inertias(self) -> np.ndarray:
         """(n,) moments of inertia about the centres: ½·m·r² for a solid disc."""
         return 0.5 * self.masses * self.radii ** 2
-
-    @property
-    def shape_names(self) -> list:
-        return [SHAPE_NAMES[kind] for kind in self.shapes]
 
     @property
     def uniform_acceleration(self) -> bool:

@@ -1,6 +1,6 @@
 """A static index of thin segments: which segments are near a body?
 
-Level geometry (thin barriers, rows (x0, y0, x1, y1)) never moves, so it is
+Level geometry (thin segments, rows (x0, y0, x1, y1)) never moves, so it is
 indexed once and queried every step. Testing every body against every segment
 is O(n·m); with the index a body tests only the segments registered in the
 cells its bounding box overlaps, which is O(1) for short segments.
@@ -42,6 +42,8 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
+from ..geometry.segment import clip_step
+
 MAX_CELLS = 4_000_000  # 32 MB of cell_start; more cells than this buys nothing
 
 SegmentIndex = namedtuple("SegmentIndex", ["x0", "y0", "cell", "nx", "ny", "cell_start", "cell_segments",
@@ -76,18 +78,6 @@ def cell_of(x, origin, inv_cell, n):
 
 
 @njit(cache=True, error_model="numpy")
-def _clip(p, q, t0, t1):
-    """One Liang–Barsky step: narrow the parameter range [t0, t1] to the
-    half-plane p * t <= q. Returns the new range, empty (t0 > t1) if none is left."""
-    if p == 0.0:  # parallel to this edge: all in or all out
-        return (t0, t1) if q >= 0.0 else (1.0, 0.0)
-    t = q / p
-    if p < 0.0:
-        return max(t0, t), t1
-    return t0, min(t1, t)
-
-
-@njit(cache=True, error_model="numpy")
 def _walk_segment(segments, s, x0, y0, cell, nx, ny, tol, cell_start, cell_segments, fill):
     """Visit the cells segment s meets (each once). Counting pass (fill False):
     cell_start[c] += 1. Fill pass: cell_start[c] -= 1 and store s at the new cell_start[c]."""
@@ -104,8 +94,8 @@ def _walk_segment(segments, s, x0, y0, cell, nx, ny, tol, cell_start, cell_segme
         left, right = x0 + cx * cell - tol, x0 + (cx + 1) * cell + tol
         # The part of the segment inside this column: parameters [ta, tb]
         # (the first two Liang–Barsky steps, shared by every cell of the column).
-        ta, tb = _clip(-dx, sx - left, 0.0, 1.0)
-        ta, tb = _clip(dx, right - sx, ta, tb)
+        ta, tb = clip_step(-dx, sx - left, 0.0, 1.0)
+        ta, tb = clip_step(dx, right - sx, ta, tb)
         if ta > tb:
             continue
         # That part only spans the rows between its two ends (±1 for rounding);
@@ -115,8 +105,8 @@ def _walk_segment(segments, s, x0, y0, cell, nx, ny, tol, cell_start, cell_segme
         last = min(cell_of(max(ya, yb), y0, inv, ny) + 1, row_hi)
         for cy in range(first, last + 1):
             bottom, top = y0 + cy * cell - tol, y0 + (cy + 1) * cell + tol
-            t0, t1 = _clip(-dy, sy - bottom, ta, tb)
-            t0, t1 = _clip(dy, top - sy, t0, t1)
+            t0, t1 = clip_step(-dy, sy - bottom, ta, tb)
+            t0, t1 = clip_step(dy, top - sy, t0, t1)
             if t0 > t1:
                 continue
             c = cy * nx + cx

@@ -56,7 +56,7 @@ from .workloads import WORKLOADS
 
 DISCRETE_SUBSTEPS = (1, 2, 4, 8, 16, 32, 64)
 PYMUNK_SUBSTEPS = (1, 2, 4, 8, 16, 32)
-BROADPHASE = "grid"   # with no barriers, the grid runs the discrete step fused (engine/fused.py)
+BROADPHASE = "grid"   # with no segments, the grid runs the discrete step fused (engine/fused.py)
 HORIZON = 0.25        # seconds: when positions are compared with ccd's
 WARM_UP_FRAMES = 2
 

@@ -14,13 +14,13 @@ What the mirror sets up
 * restitution: Chipmunk's contact restitution is the *product* of the two shapes' elasticities.
   The usual recipe (e on particles, 1 on walls) gives e against walls but e² between two
   particles; the mirror sets sqrt(e) on *every* shape, so each product, particle-particle,
-  particle-wall and particle-barrier, is exactly e;
+  particle-wall and particle-segment, is exactly e;
 * the box walls are thick static segments (a segment of radius R, R = the box's larger side,
   whose surface lies on the box edge and which runs R past each corner). Chipmunk has no half
   planes; a thin wall would let a particle that moves more than its radius in a step tunnel out
   of the box, while collisim's walls keep every particle in, so thick walls keep the comparison
-  about pair and barrier physics;
-* thin barriers (world.segments) are static segments of radius 0: two-sided, with point caps,
+  about pair and segment physics;
+* thin segments (world.segments) are static segments of radius 0: two-sided, with point caps,
   as collisim's;
 * gravity as space.gravity (or a per-body velocity function for per-particle accelerations),
   damping 1 (no velocity decay), sleeping off;
@@ -47,7 +47,7 @@ What cannot be matched, and why
 * Integration: Chipmunk moves positions with the velocity of the end of the previous step,
   then adds gravity to the velocity (semi-implicit Euler): p_k = exact − ½·g·t·dt, a lag of half
   a step in time per fall. collisim integrates constant acceleration exactly.
-* Detection is discrete and there is no continuous collision detection: a pair or a barrier is
+* Detection is discrete and there is no continuous collision detection: a pair or a segment is
   seen only if the circles overlap at the end of a step, so fast particles tunnel exactly where
   collisim's discrete method tunnels (the mirror keeps this on purpose; tests rely on it).
 * Response timing: the bounce target e·v_n is taken from the velocity *before* this step's
@@ -58,8 +58,10 @@ What cannot be matched, and why
 * Simultaneous contacts: Chipmunk solves all contacts of a step together by projected
   Gauss-Seidel with restitution targets per contact; for three or more bodies in contact at
   once the result is not a sequence of two-body collisions and need not conserve kinetic
-  energy exactly. collisim resolves contacts one pair after another (discrete) or never has two
-  at the same instant (ccd). An isolated contact is solved exactly by both.
+  energy exactly. collisim's discrete method resolves contacts one pair after another, in
+  sorted order; its ccd solves the contacts of one instant together (also by projected
+  Gauss-Seidel, to convergence), and contacts at different instants one after another. An
+  isolated contact is solved exactly by both.
 * Warm starting (collision_persistence): an arbiter that is touching again within
   collision_persistence steps starts from its cached impulse. The accumulated-impulse clamp
   removes a cached impulse that is no longer needed, so after the iterations converge an
@@ -92,7 +94,7 @@ SLOP_PER_RADIUS = 1e-3
 COLLISION_BIAS = 1e-12
 COLLISION_PERSISTENCE = 3   # Chipmunk's default: the cache only matters for resting contacts
 
-PARTICLE_TYPE, WALL_TYPE, BARRIER_TYPE = 1, 2, 3
+PARTICLE_TYPE, WALL_TYPE, SEGMENT_TYPE = 1, 2, 3
 _STATE_FIELDS = pymunk.batch.BodyFields.POSITION | pymunk.batch.BodyFields.VELOCITY
 
 
@@ -123,8 +125,8 @@ class Mirror:
         self.recorder = _Recorder()
         self.bodies = _add_particles(self.space, world, self.recorder)
         _add_walls(self.space, world, self.recorder)
-        _add_barriers(self.space, world, self.recorder)
-        for other, kind in ((PARTICLE_TYPE, PAIR), (WALL_TYPE, WALL), (BARRIER_TYPE, SEGMENT)):
+        _add_segments(self.space, world, self.recorder)
+        for other, kind in ((PARTICLE_TYPE, PAIR), (WALL_TYPE, WALL), (SEGMENT_TYPE, SEGMENT)):
             self.space.on_collision(PARTICLE_TYPE, other, begin=self.recorder.begin,
                                     post_solve=self.recorder.post_solve, data=kind)
         self._buffer = pymunk.batch.Buffer()
@@ -169,7 +171,7 @@ class _Recorder:
 
     def __init__(self):
         self.time = 0.0
-        self.index = {}          # shape -> particle, wall or barrier index
+        self.index = {}          # shape -> particle, wall or segment index
         self._counts = np.zeros(3, np.int64)
         self._rows = []
 
@@ -262,13 +264,13 @@ def _add_walls(space, world, recorder) -> None:
         recorder.index[wall] = index
 
 
-def _add_barriers(space, world, recorder) -> None:
+def _add_segments(space, world, recorder) -> None:
     elasticity = _shape_elasticity(world)
     for index, (x0, y0, x1, y1) in enumerate(world.segments):
-        barrier = pymunk.Segment(space.static_body, (float(x0), float(y0)), (float(x1), float(y1)), 0.0)
-        _set_material(barrier, BARRIER_TYPE, elasticity)
-        space.add(barrier)
-        recorder.index[barrier] = index
+        segment = pymunk.Segment(space.static_body, (float(x0), float(y0)), (float(x1), float(y1)), 0.0)
+        _set_material(segment, SEGMENT_TYPE, elasticity)
+        space.add(segment)
+        recorder.index[segment] = index
 
 
 def _set_material(shape, collision_type: int, elasticity: float) -> None:

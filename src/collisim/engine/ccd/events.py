@@ -52,7 +52,7 @@ from numba import njit
 
 from ...geometry.box import clamp_into_box
 from ...model.kinds import N_WALLS, PAIR, SEGMENT, WALL
-from ..eventlog import new_log, record
+from ..eventlog import append, new_log, with_room
 from .bodies import FREE, Bodies, Environment, advance, position_at, release, velocity_at
 from .eventqueue import CELL, is_current, key_parts, new_queue, pop, reserve
 from .fallback import finish_frame_discretely
@@ -163,10 +163,11 @@ def collect_collisions(bodies, env, queue, contacts, t, key, base, involved, lis
 @njit(cache=True, error_model="numpy")
 def record_contacts(log, contacts, t, frame_counts):
     """Log the contacts that delivered an impulse and count them by kind."""
+    log = with_room(log, contacts.count[0])
     for k in range(contacts.count[0]):
         if contacts.impulse[k] > 0.0:
-            log = record(log, t, contacts.kind[k], contacts.i[k], contacts.other[k], contacts.impulse[k],
-                         contacts.x[k], contacts.y[k])
+            append(log, t, contacts.kind[k], contacts.i[k], contacts.other[k], contacts.impulse[k],
+                   contacts.x[k], contacts.y[k])
             frame_counts[contacts.kind[k]] += 1
     return log
 

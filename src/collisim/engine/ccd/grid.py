@@ -11,7 +11,8 @@ new cell and predicts again with its new neighbours. Nothing is ever missed, at
 any speed: a fast particle simply has many crossing events.
 
 Segments are registered once, in every cell they come within one maximum
-radius of, so a particle tests only the segments listed in its own cell.
+radius of (found through the static index, statics/segment_index.py), so a
+particle tests only the segments listed in its own cell.
 
 Cell membership is a doubly linked list per cell (head, next, prev), so moving
 a particle is O(1).
@@ -20,6 +21,9 @@ from collections import namedtuple
 
 import numpy as np
 from numba import njit
+
+from ...geometry.segment import segment_meets_rect
+from ...statics.segment_index import build_segment_index, segments_near
 
 CellGrid = namedtuple("CellGrid", ["x0", "y0", "cell_w", "cell_h", "nx", "ny", "cell", "head", "next", "prev",
                                    "segment_start", "segment_index"])
@@ -47,50 +51,36 @@ def make_grid(box, radii, segments):
     grid = CellGrid(float(box[0]), float(box[1]), width / nx, height / ny, nx, ny,
                     np.full(n, -1, np.int64), np.full(nx * ny, -1, np.int64), np.full(n, -1, np.int64),
                     np.full(n, -1, np.int64), np.zeros(nx * ny + 1, np.int64), np.zeros(0, np.int64))
-    start, index = _register_segments(grid, segments, radii.max() * (1.0 + CELL_MARGIN) if n else 0.0)
-    return grid._replace(segment_start=start, segment_index=index)
+    reach = radii.max() * (1.0 + CELL_MARGIN) if n else 0.0
+    start, listed = _register_segments(grid, segments, build_segment_index(segments, box), reach)
+    return grid._replace(segment_start=start, segment_index=listed)
 
 
 @njit(cache=True, error_model="numpy")
-def _clip_fraction(denominator, numerator, lo, hi):
-    """One Liang–Barsky step: narrow the parameter range [lo, hi] of a segment by
-    the half-plane denominator * u <= numerator. Returns (lo, hi), empty if lo > hi."""
-    if denominator == 0.0:
-        return (lo, hi) if numerator >= 0.0 else (1.0, 0.0)
-    u = numerator / denominator
-    if denominator < 0.0:
-        return max(lo, u), hi
-    return lo, min(hi, u)
-
-
-@njit(cache=True, error_model="numpy")
-def _segment_meets_rect(x0, y0, x1, y1, left, bottom, right, top):
-    """Does the segment (x0, y0)-(x1, y1) intersect the rectangle? (Liang–Barsky)"""
-    dx, dy = x1 - x0, y1 - y0
-    lo, hi = _clip_fraction(-dx, x0 - left, 0.0, 1.0)
-    lo, hi = _clip_fraction(dx, right - x0, lo, hi)
-    lo, hi = _clip_fraction(-dy, y0 - bottom, lo, hi)
-    lo, hi = _clip_fraction(dy, top - y0, lo, hi)
-    return lo <= hi
-
-
-@njit(cache=True, error_model="numpy")
-def _register_segments(grid, segments, reach):
-    """CSR lists (start, index) of the segments within `reach` of each cell."""
+def _register_segments(grid, segments, index, reach):
+    """CSR lists (start, listed) of the segments within `reach` of each cell: the static
+    index's candidates near the cell, kept if they really meet the cell grown by reach."""
     cells = grid.nx * grid.ny
-    hits = np.zeros((cells, segments.shape[0]), np.bool_)
-    for c in range(cells):
-        left, bottom, right, top = cell_bounds(grid, c)
-        for s in range(segments.shape[0]):
-            hits[c, s] = _segment_meets_rect(segments[s, 0], segments[s, 1], segments[s, 2], segments[s, 3],
-                                             left - reach, bottom - reach, right + reach, top + reach)
+    near = np.empty(max(segments.shape[0], 1), np.int64)
     start = np.zeros(cells + 1, np.int64)
-    for c in range(cells):
-        start[c + 1] = start[c] + hits[c].sum()
-    index = np.empty(start[-1], np.int64)
-    for c in range(cells):
-        index[start[c]:start[c + 1]] = np.nonzero(hits[c])[0]
-    return start, index
+    listed = np.empty(0, np.int64)
+    for fill in range(2):  # count, then fill
+        count = 0
+        for c in range(cells):
+            left, bottom, right, top = cell_bounds(grid, c)
+            left, bottom, right, top = left - reach, bottom - reach, right + reach, top + reach
+            for k in range(segments_near(index, left, bottom, right, top, near)):
+                s = near[k]
+                if segment_meets_rect(segments[s, 0], segments[s, 1], segments[s, 2], segments[s, 3],
+                                      left, bottom, right, top):
+                    if fill:
+                        listed[count] = s
+                    count += 1
+            if not fill:
+                start[c + 1] = count
+        if not fill:
+            listed = np.empty(count, np.int64)
+    return start, listed
 
 
 @njit(cache=True, error_model="numpy")

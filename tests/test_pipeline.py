@@ -1,0 +1,121 @@
+"""One discrete step for every broad phase and block size: the same bytes, events included; its
+profile accounts for the step's time; the shape-pair table is what the step dispatches."""
+import time
+
+import numpy as np
+import pytest
+
+import collisim
+from collisim.broadphase import NAMES
+from collisim.engine import concatenate, stream
+from collisim.engine.discrete import DiscreteStepper
+from collisim.engine.profile import PHASES
+from collisim.gas import lattice_gas
+from collisim.model.kinds import CIRCLE
+from collisim.narrowphase.registry import SHAPE_PAIRS, contact, touching
+
+EVENT_FIELDS = ("time", "kind", "i", "j", "impulse", "point")
+
+
+def segments_scene(seconds=2.0):
+    """A gas among 40 random thin segments, some crossing each other, under gravity."""
+    rng = np.random.default_rng(5)
+    box = (0.0, 0.0, 32.0, 18.0)
+    positions, velocities, radii = lattice_gas(150, box=box, speed=6.0, seed=11)
+    starts = rng.uniform([2, 2], [30, 16], (40, 2))
+    ends = starts + rng.uniform(-3, 3, (40, 2))
+    world = collisim.World(positions, velocities, radii, box=box, gravity=(0, -2.0), restitution=0.9,
+                           segments=np.column_stack([starts, ends]))
+    return collisim.Scene(world=world, fps=60, seconds=seconds)
+
+
+@pytest.fixture(scope="module", params=["particles_250", "segments"])
+def scene(request):
+    if request.param == "segments":
+        return segments_scene()
+    return collisim.load_scene("particles_250").replace(seconds=2.0)
+
+
+def assert_same_run(a, b):
+    for name in ("positions", "velocities", "angles", "wall_collisions", "pair_collisions", "segment_collisions"):
+        np.testing.assert_array_equal(getattr(a, name), getattr(b, name), err_msg=name)
+    assert len(a.events) == len(b.events)
+    for name in EVENT_FIELDS:
+        np.testing.assert_array_equal(getattr(a.events, name), getattr(b.events, name), err_msg=name)
+
+
+def test_every_broad_phase_gives_the_same_positions_velocities_and_events(scene):
+    runs = {name: collisim.simulate(scene.replace(broadphase=name)) for name in NAMES}
+    reference = runs["brute"]
+    assert reference.pair_collisions.sum() > 50
+    if len(scene.world.segments):
+        assert reference.segment_collisions.sum() > 20
+    for name, run in runs.items():
+        assert_same_run(run, reference)
+
+
+@pytest.mark.parametrize("block", [1, 7])
+def test_streaming_in_blocks_of_any_size_gives_the_same_bytes(scene, block):
+    whole = collisim.simulate(scene.replace(broadphase="grid"))
+    streamed = concatenate(list(stream(scene.replace(broadphase="grid"), block=block)))
+    assert_same_run(streamed, whole)
+
+
+def test_events_agree_with_the_per_frame_counts(scene):
+    traj = collisim.simulate(scene)
+    frame_of_event = np.rint(traj.events.time * scene.fps).astype(int)
+    for kind, counts in ((0, traj.wall_collisions), (1, traj.pair_collisions), (2, traj.segment_collisions)):
+        per_frame = np.bincount(frame_of_event[traj.events.kind == kind], minlength=len(counts))
+        if kind == 0:   # several bounces off one wall in one step are one event
+            assert np.all(per_frame <= counts)
+        else:
+            np.testing.assert_array_equal(per_frame, counts)
+
+
+def test_the_profile_accounts_for_the_steps_wall_time():
+    scene = collisim.load_scene("particles_250")
+    stepper = DiscreteStepper(scene.world, scene.fps, 1, "grid")
+    stepper.run(2)   # compile or load outside the measurement
+    stepper.profile.seconds.clear()
+    shares = []
+    for _ in range(3):    # the best of three: a shared machine may pause the process
+        stepper.profile.seconds.clear()
+        start = time.perf_counter()
+        stepper.run(600)
+        wall = time.perf_counter() - start
+        phases = stepper.profile.seconds
+        assert set(PHASES) <= set(phases)
+        shares.append(sum(phases.values()) / wall)
+        assert phases["other"] < 0.1 * sum(phases.values())   # the phases cover the compiled loop
+    assert max(shares) == pytest.approx(1.0, abs=0.1)
+
+
+def test_every_shape_pair_of_the_table_is_dispatched():
+    positions = np.array([[0.0, 0.0], [1.5, 0.0], [5.0, 0.0]])
+    radii = np.array([1.0, 0.6, 0.5])
+    shapes = np.full(3, CIRCLE, np.int8)
+    for (kind_a, kind_b), (touch, describe) in SHAPE_PAIRS.items():
+        shapes[:] = kind_a
+        shapes[1:] = kind_b
+        for i, j in ((0, 1), (0, 2)):
+            assert touching(shapes, positions, radii, i, j) == touch(positions, radii, i, j)
+            assert contact(shapes, positions, radii, i, j) == describe(positions, radii, i, j)
+
+
+def test_contacts_of_a_state_have_normals_depths_and_points():
+    world = collisim.World([[1.0, 1.0], [2.5, 1.0], [5.0, 5.0]], radii=[1.0, 0.75, 0.5], box=(-2, -2, 8, 8))
+    found = collisim.contacts(world)
+    np.testing.assert_array_equal(found["pairs"], [[0, 1]])
+    np.testing.assert_allclose(found["normals"], [[1.0, 0.0]])
+    np.testing.assert_allclose(found["depths"], [0.25])
+    np.testing.assert_allclose(found["points"], [[2.0, 1.0]])
+
+
+def test_bodies_carry_angles_that_turn_at_their_angular_velocity():
+    world = collisim.World([[2.0, 2.0], [6.0, 2.0]], radii=0.5, angles=[0.0, 1.0], angular_velocities=[2.0, -1.0],
+                           box=(0, 0, 8, 4))
+    for method in ("discrete", "ccd"):
+        traj = collisim.simulate(collisim.Scene(world=world, fps=30, seconds=1.0, method=method))
+        np.testing.assert_allclose(traj.angles[-1], [2.0, 0.0], atol=1e-12)
+        np.testing.assert_array_equal(traj.angular_velocities[-1], [2.0, -1.0])
+    np.testing.assert_allclose(world.inertias, 0.5 * world.masses * 0.25)

@@ -1,0 +1,104 @@
+"""The player draws whatever Trajectory it is given: a scene's stream, a saved run, pymunk's run,
+or several runs side by side. Checked on decoded video."""
+import json
+import zipfile
+
+import numpy as np
+import pytest
+
+import collisim
+from collisim.analysis.reference import simulate_pymunk
+from conftest import decode_video
+
+SIZE = (320, 180)
+
+
+def decoded_frames(path):
+    import av
+    with av.open(str(path)) as container:
+        return [frame.to_ndarray(format="rgb24") for frame in container.decode(video=0)]
+
+
+@pytest.fixture(scope="module")
+def scene():
+    return collisim.load_scene("two_bodies").replace(seconds=1.0)
+
+
+def test_trajectory_file_round_trip_is_exact(scene, tmp_path):
+    traj = collisim.simulate(scene)
+    loaded = collisim.load_trajectory(traj.save(tmp_path / "run.npz"))
+    for name in ("times", "positions", "velocities", "angles", "angular_velocities", "wall_collisions",
+                 "pair_collisions", "segment_collisions", "candidates"):
+        np.testing.assert_array_equal(getattr(loaded, name), getattr(traj, name))
+    for name in ("time", "kind", "i", "j", "impulse", "point"):
+        np.testing.assert_array_equal(getattr(loaded.events, name), getattr(traj.events, name))
+    for name in ("positions", "radii", "masses", "colors", "box", "segments", "accelerations"):
+        np.testing.assert_array_equal(getattr(loaded.world, name), getattr(traj.world, name))
+    assert (loaded.fps, loaded.method, loaded.broadphase, loaded.substeps) == \
+        (traj.fps, traj.method, traj.broadphase, traj.substeps)
+    assert [p.name for p in tmp_path.iterdir()] == ["run.npz"]   # no temporary left behind
+
+
+def test_bad_trajectory_files_are_one_clear_error(scene, tmp_path):
+    path = collisim.simulate(scene).save(tmp_path / "run.npz")
+    with np.load(path) as data:
+        arrays = dict(data)
+    meta = json.loads(str(arrays["meta"]))
+    meta["format"] = 99
+    arrays["meta"] = np.array(json.dumps(meta))
+    np.savez(tmp_path / "future.npz", **arrays)
+    with pytest.raises(ValueError, match="format version 99; this collisim reads version 1"):
+        collisim.load_trajectory(tmp_path / "future.npz")
+    (tmp_path / "broken.npz").write_bytes(path.read_bytes()[:200])
+    (tmp_path / "foreign.npz").write_bytes(b"not a zip at all")
+    with zipfile.ZipFile(tmp_path / "empty.npz", "w"):
+        pass
+    for name in ("broken.npz", "foreign.npz", "empty.npz", "missing.npz"):
+        with pytest.raises(ValueError, match="cannot read trajectory .*: (not a collisim trajectory file|not found)"):
+            collisim.load_trajectory(tmp_path / name)
+
+
+def test_a_saved_trajectory_renders_the_same_frames_as_the_scene(scene, tmp_path):
+    collisim.render(scene, tmp_path / "scene.mp4", SIZE)
+    saved = collisim.simulate(scene).save(tmp_path / "run.npz")
+    collisim.render(collisim.load_trajectory(saved), tmp_path / "saved.mp4", SIZE, settings=scene.render)
+    from_scene, from_file = decoded_frames(tmp_path / "scene.mp4"), decoded_frames(tmp_path / "saved.mp4")
+    assert len(from_scene) == len(from_file) == scene.frames
+    for a, b in zip(from_scene, from_file):
+        np.testing.assert_array_equal(a, b)
+
+
+def test_a_pymunk_trajectory_renders_like_any_other(scene, tmp_path):
+    traj = simulate_pymunk(scene)
+    path = collisim.render(traj, tmp_path / "pymunk.mp4", SIZE)
+    count, width, height, rate, codec, pixels = decode_video(path)
+    assert (count, width, height, rate, codec, pixels) == (scene.frames, *SIZE, 60, "h264", "yuv420p")
+    frame = decoded_frames(path)[30]
+    assert frame.std() > 5   # bodies and the box are drawn, not a blank frame
+
+
+def test_cli_renders_a_saved_trajectory(cli, tmp_path):
+    saved = tmp_path / "bounce.npz"
+    first = cli("render", "single_bounce", "--seconds", "0.5", "--size", "160x90", "--no-progress",
+                "--out", tmp_path / "a.mp4", "--save-trajectory", saved)
+    assert first.returncode == 0, first.stderr
+    again = cli("render", saved, "--size", "160x90", "--no-progress", "--out", tmp_path / "b.mp4")
+    assert again.returncode == 0, again.stderr
+    assert decode_video(tmp_path / "b.mp4")[:3] == (30, 160, 90)
+    (tmp_path / "bad.npz").write_text("nonsense")
+    bad = cli("render", tmp_path / "bad.npz", "--out", tmp_path / "c.mp4")
+    assert bad.returncode == 2 and bad.stderr.strip().count("\n") == 0
+    assert "not a collisim trajectory file" in bad.stderr and not (tmp_path / "c.mp4").exists()
+
+
+def test_compare_video_plays_the_methods_side_by_side(cli, tmp_path):
+    out = tmp_path / "compare.mp4"
+    result = cli("compare", "two_bodies", "--seconds", "1", "--video", out)
+    assert result.returncode == 0, result.stderr
+    assert "pymunk x1" in result.stdout and str(out) in result.stdout
+    count, width, height, rate, codec, _ = decode_video(out)
+    assert (count, width, height, rate, codec) == (60, 1280, 720, 60, "h264")
+    frame = decoded_frames(out)[-1]
+    # four panels in a 2 x 2 grid (discrete x1, discrete x8, ccd, pymunk x1): each quarter has its own drawing
+    quarters = [frame[r:r + 360, c:c + 640] for r in (0, 360) for c in (0, 640)]
+    assert all(q.std() > 5 for q in quarters)
