@@ -9,10 +9,10 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from collisim.broadphase import METHODS, describe, find_pairs, make
+from collisim.broadphase import NAMES, describe, find_pairs, make
 
 
-@pytest.fixture(scope="module", params=METHODS)
+@pytest.fixture(scope="module", params=NAMES)
 def method(request):
     return request.param
 

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 import collisim
-from collisim.broadphase import METHODS
+from collisim.broadphase import NAMES
 
 
 def digest(traj) -> str:
@@ -25,7 +25,7 @@ def reference(gas_scene):
     return collisim.simulate(gas_scene.replace(broadphase="brute"))
 
 
-@pytest.mark.parametrize("method", [m for m in METHODS if m != "brute"])
+@pytest.mark.parametrize("method", [m for m in NAMES if m != "brute"])
 def test_every_broad_phase_gives_identical_trajectory_bytes(gas_scene, reference, method):
     traj = collisim.simulate(gas_scene.replace(broadphase=method))
     assert traj.frames == 600
@@ -83,9 +83,9 @@ def test_bench_broadphase_writes_csv_and_chart_with_reference_lines(cli, tmp_pat
     assert result.returncode == 0, result.stderr
     rows = list(csv.DictReader(open(tmp_path / "broadphase.csv")))
     methods = {row["method"] for row in rows}
-    assert set(METHODS) | {"scipy_ckdtree", "pymunk_step", "discrete_step"} <= methods
+    assert set(NAMES) | {"scipy_ckdtree", "pymunk_step", "discrete_step"} <= methods
     for n in ("50", "400"):   # every method finds every touching pair
-        true_pairs = {row["true_pairs"] for row in rows if row["n"] == n and row["method"] in METHODS}
+        true_pairs = {row["true_pairs"] for row in rows if row["n"] == n and row["method"] in NAMES}
         assert len(true_pairs) == 1
     assert (tmp_path / "broadphase.png").stat().st_size > 10_000
     assert "x cKDTree" in result.stdout

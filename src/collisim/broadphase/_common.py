@@ -13,6 +13,9 @@ import math
 import numpy as np
 from numba import njit
 
+from ..arrays import grown
+from ._rays import check_ray, sorted_hits
+
 
 def empty_pairs() -> np.ndarray:
     """The answer when there is nothing to pair: shape (0, 2), dtype intp."""
@@ -107,10 +110,7 @@ def push_pair(pairs, count, i, j):
     The buffer doubles when full, so kernels need not know the answer's size in
     advance. Returns the (possibly new) buffer and the new count.
     """
-    if count == pairs.shape[0]:
-        grown = np.empty((2 * count, 2), np.intp)
-        grown[:count] = pairs
-        pairs = grown
+    pairs = grown(pairs, count + 1)
     pairs[count, 0] = min(i, j)
     pairs[count, 1] = max(i, j)
     return pairs, count + 1
@@ -166,9 +166,21 @@ def sorted_unique_pairs(pairs, n):
 class BroadPhase:
     """One broad-phase method, its options, and what it keeps between frames.
 
-    Call :meth:`pairs` once per frame. Subclasses implement ``_find(lo, hi)``
-    (called only for n >= 2 boxes) returning raw pairs with i < j in any order,
-    and may add entries to ``self.stats``.
+    Three questions, each answered in the method's own way:
+    * :meth:`pairs` (once per frame): which boxes may overlap? Subclasses implement
+      ``_find(lo, hi)`` (called only for n >= 2 boxes) returning raw pairs with i < j in
+      any order, and may add entries to ``self.stats``;
+    * :meth:`query`: which boxes overlap this box? (a selection rectangle, an explosion's
+      reach, the boxes near a point);
+    * :meth:`raycast`: which boxes does this ray segment pass through, and where does it
+      enter each? (line of sight, picking, a bullet).
+    Subclasses implement, for n >= 1 boxes,
+    ``_query(lo, hi, qx0, qy0, qx1, qy1) -> (found (k,) intp, visited, tested)`` and
+    ``_raycast(lo, hi, ox, oy, ux, uy, max_distance) -> (found (k,) intp, t_enter (k,)
+    float64, visited, tested)``, in any order, repeats allowed. Like ``pairs``, both rebuild
+    the structure from lo, hi on every call; afterwards ``self.stats`` holds ``visited`` (how
+    many nodes, cells or boxes the method examined: what its structure saved), ``tested``
+    (how many boxes it tested exactly) and ``found``.
     """
 
     name = ""
@@ -197,3 +209,88 @@ class BroadPhase:
 
     def _find(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
         raise NotImplementedError
+
+
+# ------------------------------------------------ box queries (query())
+
+    def query(self, lo, hi, box_lo, box_hi) -> np.ndarray:
+        """Indices (k,) intp, ascending and unique, of the boxes lo, hi: (n, 2)
+        that overlap the box box_lo, box_hi: (2,) each. Touching counts."""
+        lo, hi = check_boxes(lo, hi)
+        query_box = check_query_box(box_lo, box_hi)
+        self.stats = {"visited": 0, "tested": 0, "found": 0}
+        if len(lo) == 0:
+            return np.empty(0, np.intp)
+        found, visited, tested = self._query(lo, hi, *query_box)
+        found = np.unique(found).astype(np.intp)  # a box may sit in several cells or leaves
+        self.stats.update(visited=int(visited), tested=int(tested), found=len(found))
+        return found
+
+    def raycast(self, lo, hi, origin, direction, max_distance) -> tuple[np.ndarray, np.ndarray]:
+        """The boxes lo, hi: (n, 2) that the segment origin + t * u, t in
+        [0, max_distance], meets, u = direction / |direction|.
+
+        origin, direction: (2,); max_distance >= 0, may be inf. Returns
+        indices (k,) intp and t_enter (k,) float64, the distance along u at
+        which the ray enters each box (0 if it starts inside or on it), sorted
+        by (t_enter, index). Raises ValueError for a zero or non-finite
+        direction, a non-finite origin, or a negative or NaN max_distance.
+        """
+        lo, hi = check_boxes(lo, hi)
+        ray = check_ray(origin, direction, max_distance)
+        self.stats = {"visited": 0, "tested": 0, "found": 0}
+        if len(lo) == 0:
+            return np.empty(0, np.intp), np.empty(0, np.float64)
+        found, t_enter, visited, tested = self._raycast(lo, hi, *ray)
+        found, t_enter = sorted_hits(found, t_enter)
+        self.stats.update(visited=int(visited), tested=int(tested), found=len(found))
+        return found, t_enter
+
+    def _query(self, lo, hi, qx0, qy0, qx1, qy1):
+        raise NotImplementedError
+
+    def _raycast(self, lo, hi, ox, oy, ux, uy, max_distance):
+        raise NotImplementedError
+
+
+def check_query_box(box_lo, box_hi) -> tuple[float, float, float, float]:
+    """The query box's corners as (x0, y0, x1, y1) floats, or raise ValueError.
+
+    box_lo, box_hi: (2,) min and max corners, finite, box_lo <= box_hi.
+    """
+    box_lo = np.asarray(box_lo, dtype=np.float64)
+    box_hi = np.asarray(box_hi, dtype=np.float64)
+    if box_lo.shape != (2,) or box_hi.shape != (2,):
+        raise ValueError(f"box_lo and box_hi must each be two numbers (x, y); "
+                         f"got shapes {box_lo.shape} and {box_hi.shape}")
+    if not (np.isfinite(box_lo).all() and np.isfinite(box_hi).all()):
+        raise ValueError("the query box corners must be finite (no NaN or inf)")
+    if not (box_lo <= box_hi).all():
+        raise ValueError("the query box needs box_lo <= box_hi on both axes")
+    return float(box_lo[0]), float(box_lo[1]), float(box_hi[0]), float(box_hi[1])
+
+
+@njit(cache=True)
+def box_meets_query(lo, hi, i, qx0, qy0, qx1, qy1):
+    """Does box i (lo, hi: (n, 2)) overlap the box [qx0, qx1] x [qy0, qy1]?
+    Touching counts, as in boxes_overlap."""
+    return (lo[i, 0] <= qx1) & (qx0 <= hi[i, 0]) & (lo[i, 1] <= qy1) & (qy0 <= hi[i, 1])
+
+
+@njit(cache=True)
+def overlapping_in_run(lo, hi, boxes, first, end, qx0, qy0, qx1, qy1, found, count):
+    """Append the boxes of boxes[first:end] (a leaf's or a cell's run) that overlap the query
+    box to found (push_index). Returns found and the new count."""
+    for a in range(first, end):
+        if box_meets_query(lo, hi, boxes[a], qx0, qy0, qx1, qy1):
+            found, count = push_index(found, count, boxes[a])
+    return found, count
+
+
+@njit(cache=True)
+def push_index(found, count, i):
+    """Write box index i into slot `count` of `found` (growing it if full);
+    returns the (possibly new) buffer and the new count."""
+    found = grown(found, count + 1)
+    found[count] = i
+    return found, count + 1

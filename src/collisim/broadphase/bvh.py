@@ -21,13 +21,19 @@ Finding pairs is a traversal of the tree against itself:
 
 Each pair of objects is met exactly once, in the unique node where their
 paths from the root part.
+
+A box query or a ray cast is a traversal of the tree from the root: enter a
+node only if its box overlaps the query box (or the ray reaches its box
+within max_distance; nearer child first). A node's box holds all its
+objects' boxes, so nothing below a node that is missed can be hit.
 """
 
 import numpy as np
 from numba import njit
 
-from ._common import (BroadPhase, boxes_overlap, check_boxes, check_int_option,
-                      new_pair_buffer, push_pair, widest_axis)
+from ._common import (BroadPhase, box_meets_query, boxes_overlap, check_boxes, check_int_option,
+                      new_pair_buffer, overlapping_in_run, push_pair, widest_axis)
+from ._rays import farther_then_nearer, hits_in_run, new_hit_buffers, ray_box_entry
 
 
 @njit(cache=True)
@@ -158,6 +164,73 @@ def bvh_pairs(lo, hi, order, node_lo, node_hi, node_first, node_count, node_left
     return pairs[:count]
 
 
+@njit(cache=True)
+def bvh_query(lo, hi, order, node_lo, node_hi, node_first, node_count, node_left,
+              qx0, qy0, qx1, qy1):
+    """Boxes overlapping the query box [qx0, qx1] x [qy0, qy1] (arrays from build_bvh).
+
+    Returns (found (k,) intp, nodes visited, boxes tested); every box is in
+    one leaf only, so there are no repeats.
+    """
+    found, count, visited, tested = np.empty(16, np.intp), 0, 0, 0
+    stack = [0]
+    while len(stack) > 0:
+        node = stack.pop()
+        visited += 1
+        if not box_meets_query(node_lo, node_hi, node, qx0, qy0, qx1, qy1):
+            continue  # nothing below this node reaches the query box
+        left = node_left[node]
+        if left >= 0:
+            stack.append(left + 1)
+            stack.append(left)
+            continue
+        first, end = node_first[node], node_first[node] + node_count[node]
+        tested += end - first
+        found, count = overlapping_in_run(lo, hi, order, first, end, qx0, qy0, qx1, qy1, found, count)
+    return found[:count], visited, tested
+
+
+@njit(cache=True)
+def node_entry(node_lo, node_hi, node, ox, oy, ux, uy, max_distance):
+    """Where the ray enters node's box (inf if it misses)."""
+    return ray_box_entry(ox, oy, ux, uy, max_distance,
+                         node_lo[node, 0], node_lo[node, 1], node_hi[node, 0], node_hi[node, 1])
+
+
+@njit(cache=True)
+def bvh_raycast(lo, hi, order, node_lo, node_hi, node_first, node_count, node_left,
+                ox, oy, ux, uy, max_distance):
+    """Boxes the ray meets (arrays from build_bvh).
+
+    Returns found (k,) intp, t_enter (k,) float64, nodes visited (node boxes
+    tested against the ray) and boxes tested.
+    """
+    (found, t_enter), count = new_hit_buffers(), 0
+    visited, tested = 1, 0
+    stack = [0]
+    if node_entry(node_lo, node_hi, 0, ox, oy, ux, uy, max_distance) == np.inf:
+        stack.pop()  # the ray misses the root's box, and so every box
+    while len(stack) > 0:
+        node = stack.pop()
+        left = node_left[node]
+        if left < 0:
+            tested += node_count[node]
+            found, t_enter, count = hits_in_run(lo, hi, order, node_first[node], node_first[node] + node_count[node],
+                                                ox, oy, ux, uy, max_distance, found, t_enter, count)
+            continue
+        t_left = node_entry(node_lo, node_hi, left, ox, oy, ux, uy, max_distance)
+        t_right = node_entry(node_lo, node_hi, left + 1, ox, oy, ux, uy, max_distance)
+        visited += 2
+        # The nearer child is searched first; a child whose box the ray misses is pruned
+        # with everything below it.
+        far, far_reached, near, near_reached = farther_then_nearer(t_left, t_right)
+        if far_reached:
+            stack.append(left + far)
+        if near_reached:
+            stack.append(left + near)
+    return found[:count], t_enter[:count], visited, tested
+
+
 class BoundingVolumeHierarchy(BroadPhase):
     """BVH broad phase, rebuilt every frame."""
 
@@ -173,6 +246,15 @@ class BoundingVolumeHierarchy(BroadPhase):
         order, node_lo, node_hi, first, count, left, depth = build_bvh(lo, hi, self.leaf_size)
         self.stats.update(nodes=len(node_lo), depth=int(depth.max()))
         return bvh_pairs(lo, hi, order, node_lo, node_hi, first, count, left)
+
+    def _query(self, lo, hi, qx0, qy0, qx1, qy1):
+        order, node_lo, node_hi, first, count, left, _ = build_bvh(lo, hi, self.leaf_size)
+        return bvh_query(lo, hi, order, node_lo, node_hi, first, count, left, qx0, qy0, qx1, qy1)
+
+    def _raycast(self, lo, hi, ox, oy, ux, uy, max_distance):
+        order, node_lo, node_hi, first, count, left, _ = build_bvh(lo, hi, self.leaf_size)
+        return bvh_raycast(lo, hi, order, node_lo, node_hi, first, count, left,
+                           ox, oy, ux, uy, max_distance)
 
     def describe(self, lo, hi) -> dict:
         """Nodes as (node_lo, node_hi, depth, is_leaf) in depth-first order, the

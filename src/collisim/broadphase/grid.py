@@ -27,13 +27,18 @@ cells (a circle 100 times bigger than the rest costs more insertions, not a
 grid of giant cells for everybody). The size is widened when needed so a
 sparse scene never has more than about 4n cells. Pass ``cell_size=`` to
 choose it yourself.
+
+A box query looks only at the cells the query box covers; a ray cast walks
+the cells along the ray in order (Amanatides & Woo) and tests only the boxes
+filed in them (see :mod:`.grid_walk`).
 """
 
 import numpy as np
 from numba import njit
 
-from ._common import (BroadPhase, bounding_box, boxes_overlap, check_boxes,
-                      check_positive_option, new_pair_buffer, push_pair)
+from ._common import (BroadPhase, bounding_box, box_meets_query, boxes_overlap, check_boxes,
+                      check_positive_option, new_pair_buffer, push_index, push_pair)
+from .grid_walk import grid_raycast
 
 MAX_CELLS = 1 << 24  # 16.8 million cells: 134 MB of cell_start alone
 
@@ -139,6 +144,69 @@ def grid_pairs(lo, hi, origin, cells_per_unit, nx, ny, cell_start, cell_boxes):
     return pairs[:count]
 
 
+@njit(cache=True)
+def cell_bounds(origin, cell_size, cells_per_unit, n_cells, upper):
+    """The extent of each column (or row) of the grid, as cell_of sees it.
+
+    Returns starts, ends (n_cells,): every coordinate x that cell_of puts in
+    cell k has starts[k] <= x <= ends[k]; both ascend. The first cell starts
+    at the origin and the last ends at `upper`, the far side of the boxes'
+    bounding box (nothing lies beyond it).
+
+    The edge between cells k - 1 and k is about origin + k * cell_size, but
+    cell_of rounds (x - origin) * cells_per_unit, so points a few units in the
+    last place from it may land on either side. Each inner edge therefore
+    gets a margin, doubled until cell_of confirms it: neighbouring cells
+    overlap by that sliver, and a ray walk that uses these bounds never
+    misses the cell bin_boxes filed a box in.
+    """
+    starts = np.empty(n_cells)
+    ends = np.empty(n_cells)
+    starts[0] = origin
+    ends[n_cells - 1] = upper
+    for k in range(1, n_cells):
+        x = origin + k * cell_size
+        margin = (abs(x) + cell_size) * 2.0 ** -52  # about one unit in the last place
+        while not (cell_of(x - margin, origin, cells_per_unit, n_cells) < k
+                   and cell_of(x + margin, origin, cells_per_unit, n_cells) >= k):
+            margin *= 2.0
+        starts[k] = max(x - margin, starts[k - 1])  # stays ascending: only ever raised
+        ends[k - 1] = x + margin
+    for k in range(1, n_cells):
+        ends[k] = max(ends[k], ends[k - 1])
+    return starts, ends
+
+
+@njit(cache=True)
+def grid_query(lo, hi, origin, cells_per_unit, nx, ny, cell_start, cell_boxes,
+               qx0, qy0, qx1, qy1):
+    """Boxes overlapping the query box [qx0, qx1] x [qy0, qy1], each once.
+
+    lo, hi: (n, 2); the other arguments as for and from bin_boxes. Returns
+    (found (k,) intp, cells visited, boxes tested). A box overlapping the
+    query shares at least one cell with it; like grid_pairs, each box is
+    reported only from the cell holding the lower-left corner of its overlap
+    with the query box.
+    """
+    found, count = np.empty(16, np.intp), 0
+    x0 = cell_of(qx0, origin[0], cells_per_unit, nx)
+    x1 = cell_of(qx1, origin[0], cells_per_unit, nx)
+    y0 = cell_of(qy0, origin[1], cells_per_unit, ny)
+    y1 = cell_of(qy1, origin[1], cells_per_unit, ny)
+    tested = 0
+    for ix in range(x0, x1 + 1):
+        for iy in range(y0, y1 + 1):
+            cell = ix * ny + iy
+            for a in range(cell_start[cell], cell_start[cell + 1]):
+                i = cell_boxes[a]
+                tested += 1
+                if (box_meets_query(lo, hi, i, qx0, qy0, qx1, qy1)
+                        and cell_of(max(lo[i, 0], qx0), origin[0], cells_per_unit, nx) == ix
+                        and cell_of(max(lo[i, 1], qy0), origin[1], cells_per_unit, ny) == iy):
+                    found, count = push_index(found, count, i)
+    return found[:count], (x1 - x0 + 1) * (y1 - y0 + 1), tested
+
+
 class UniformGrid(BroadPhase):
     """Uniform grid broad phase; ``stats["memory_bytes"]`` is the grid arrays' size."""
 
@@ -161,6 +229,24 @@ class UniformGrid(BroadPhase):
         self.stats.update(cell_size=cell_size, shape=(nx, ny),
                           memory_bytes=cell_start.nbytes + cell_boxes.nbytes)
         return grid_pairs(lo, hi, origin, 1.0 / cell_size, nx, ny, cell_start, cell_boxes)
+
+    def _query(self, lo, hi, qx0, qy0, qx1, qy1):
+        (x0, y0), (x1, y1) = bounding_box(lo, hi)
+        if qx1 < x0 or qx0 > x1 or qy1 < y0 or qy0 > y1:
+            # Outside the grid: cell_of would clamp it onto the border cells.
+            return np.empty(0, np.intp), 0, 0
+        origin, cell_size, (nx, ny), cell_start, cell_boxes = self._bin(lo, hi)
+        return grid_query(lo, hi, origin, 1.0 / cell_size, nx, ny, cell_start, cell_boxes,
+                          qx0, qy0, qx1, qy1)
+
+    def _raycast(self, lo, hi, ox, oy, ux, uy, max_distance):
+        origin, cell_size, (nx, ny), cell_start, cell_boxes = self._bin(lo, hi)
+        _, corner_hi = bounding_box(lo, hi)
+        cells_per_unit = 1.0 / cell_size
+        columns = cell_bounds(origin[0], cell_size, cells_per_unit, nx, corner_hi[0])
+        rows = cell_bounds(origin[1], cell_size, cells_per_unit, ny, corner_hi[1])
+        return grid_raycast(lo, hi, cell_start, cell_boxes, *columns, *rows,
+                            ox, oy, ux, uy, max_distance)
 
     def describe(self, lo, hi) -> dict:
         """Grid origin, cell size, shape (nx, ny), boxes per cell (nx, ny), and

@@ -27,13 +27,21 @@ than one leaf. Each pair is reported only by the leaf whose region contains
 the lower-left corner of the two boxes' intersection: that point lies in
 both boxes, so both boxes are in that leaf, and the leaf regions tile the
 plane without overlap, so exactly one leaf reports the pair.
+
+For box queries and ray casts, :func:`build_kdtree` makes the same splits
+and stores the tree in flat arrays. A query box goes down the tree the way
+a box is filed into it: left if its min is < the split value, right if its
+max is >= it. A ray goes into the children whose region it reaches within
+max_distance, nearer child first.
 """
 
 import numpy as np
 from numba import njit
 
-from ._common import (BroadPhase, bounding_box, boxes_overlap, check_boxes, check_int_option,
-                      new_pair_buffer, push_pair, widest_axis)
+from ..arrays import grown
+from ._common import (BroadPhase, bounding_box, boxes_overlap, check_boxes, check_int_option, new_pair_buffer,
+                      overlapping_in_run, push_pair, widest_axis)
+from ._rays import farther_then_nearer, hits_in_run, new_hit_buffers, ray_box_entry
 
 
 @njit(cache=True)
@@ -125,6 +133,130 @@ def kdtree_pairs(lo, hi, leaf_size, max_depth):
     return pairs[:count], n_nodes, tree_depth
 
 
+@njit(cache=True)
+def build_kdtree(lo, hi, leaf_size, max_depth):
+    """Build the k-d tree (the same splits as kdtree_pairs) into flat arrays.
+
+    lo, hi: (n, 2), n >= 1. Returns, for m nodes numbered depth-first with
+    the two children of a node next to each other:
+    node_axis (m,): the split axis, -1 for a leaf;
+    node_value (m,): the split value (left: coordinate < value, right: >=);
+    node_left (m,): the left child (the right child is left + 1), -1 for a leaf;
+    node_first, node_count (m,): a leaf's boxes are
+    leaf_boxes[node_first:node_first + node_count];
+    leaf_boxes (total,): every leaf's boxes, one run per leaf; a box that
+    straddles a split appears in several runs.
+    Straddlers make the sizes unknown in advance, so the arrays grow as needed.
+    """
+    n = lo.shape[0]
+    capacity = 2 * n + 1
+    node_axis = np.empty(capacity, np.intp)
+    node_value = np.empty(capacity)
+    node_left = np.empty(capacity, np.intp)
+    node_first = np.empty(capacity, np.intp)
+    node_count = np.empty(capacity, np.intp)
+    leaf_boxes = np.empty(capacity, np.intp)
+    n_nodes, n_leaf_boxes = 1, 0
+    stack = [(0, np.arange(n), 0)]
+    while len(stack) > 0:
+        node, members, depth = stack.pop()
+        axis, value, left, right = split_node(lo, hi, members, depth, leaf_size, max_depth)
+        node_axis[node], node_value[node] = axis, value
+        node_left[node], node_first[node], node_count[node] = -1, n_leaf_boxes, 0
+        if axis < 0:
+            m = members.shape[0]
+            leaf_boxes = grown(leaf_boxes, n_leaf_boxes + m)
+            leaf_boxes[n_leaf_boxes:n_leaf_boxes + m] = members
+            node_count[node] = m
+            n_leaf_boxes += m
+            continue
+        child = n_nodes
+        n_nodes += 2
+        node_axis = grown(node_axis, n_nodes)
+        node_value = grown(node_value, n_nodes)
+        node_left = grown(node_left, n_nodes)
+        node_first = grown(node_first, n_nodes)
+        node_count = grown(node_count, n_nodes)
+        node_left[node] = child
+        stack.append((child + 1, right, depth + 1))
+        stack.append((child, left, depth + 1))
+    return (node_axis[:n_nodes], node_value[:n_nodes], node_left[:n_nodes],
+            node_first[:n_nodes], node_count[:n_nodes], leaf_boxes[:n_leaf_boxes])
+
+
+@njit(cache=True)
+def kdtree_query(lo, hi, node_axis, node_value, node_left, node_first, node_count, leaf_boxes,
+                 qx0, qy0, qx1, qy1):
+    """Boxes overlapping the query box [qx0, qx1] x [qy0, qy1] (tree from build_kdtree).
+
+    The query box meets the left region (coordinate < value) if its min is
+    < value, and the right one if its max is >= value: the same rule that
+    files boxes, so every box overlapping the query sits in a leaf it reaches.
+    Returns (found (k,) intp with repeats, nodes visited, boxes tested).
+    """
+    found, count = np.empty(16, np.intp), 0
+    visited = tested = 0
+    stack = [0]
+    while len(stack) > 0:
+        node = stack.pop()
+        visited += 1
+        axis = node_axis[node]
+        if axis < 0:
+            first, end = node_first[node], node_first[node] + node_count[node]
+            tested += end - first
+            found, count = overlapping_in_run(lo, hi, leaf_boxes, first, end, qx0, qy0, qx1, qy1, found, count)
+            continue
+        q_min, q_max = (qx0, qx1) if axis == 0 else (qy0, qy1)
+        if q_max >= node_value[node]:
+            stack.append(node_left[node] + 1)
+        if q_min < node_value[node]:
+            stack.append(node_left[node])
+    return found[:count], visited, tested
+
+
+@njit(cache=True)
+def kdtree_raycast(lo, hi, node_axis, node_value, node_left, node_first, node_count, leaf_boxes,
+                   x0, y0, x1, y1, ox, oy, ux, uy, max_distance):
+    """Boxes the ray meets (tree from build_kdtree; x0, y0, x1, y1: the boxes'
+    bounding box, the root's region).
+
+    A node is entered only if the ray reaches its region (closed, so a ray
+    along a split line goes both ways) within max_distance; of two children
+    the nearer is searched first. Returns found (k,) intp with repeats,
+    t_enter (k,) float64, nodes visited (regions tested) and boxes tested.
+    """
+    (found, t_enter), count = new_hit_buffers(), 0
+    visited, tested = 1, 0
+    stack = [(0, (x0, y0, x1, y1))]
+    if ray_box_entry(ox, oy, ux, uy, max_distance, x0, y0, x1, y1) == np.inf:
+        stack.pop()  # the ray misses the bounding box of all the boxes
+    while len(stack) > 0:
+        node, region = stack.pop()
+        axis = node_axis[node]
+        if axis < 0:
+            tested += node_count[node]
+            found, t_enter, count = hits_in_run(lo, hi, leaf_boxes, node_first[node],
+                                                node_first[node] + node_count[node], ox, oy, ux, uy, max_distance,
+                                                found, t_enter, count)
+            continue
+        # A split value may lie outside the node's region (the median centre
+        # of boxes that straddle an earlier split); cut at the nearest side then.
+        value = min(max(node_value[node], region[axis]), region[axis + 2])
+        left_region, right_region = split_region(region, axis, value)
+        t_left = ray_box_entry(ox, oy, ux, uy, max_distance, *left_region)
+        t_right = ray_box_entry(ox, oy, ux, uy, max_distance, *right_region)
+        visited += 2
+        # The nearer child is searched first.
+        left = node_left[node]
+        regions = (left_region, right_region)
+        far, far_reached, near, near_reached = farther_then_nearer(t_left, t_right)
+        if far_reached:
+            stack.append((left + far, regions[far]))
+        if near_reached:
+            stack.append((left + near, regions[near]))
+    return found[:count], t_enter[:count], visited, tested
+
+
 class KDTree(BroadPhase):
     """k-d tree broad phase, rebuilt every frame."""
 
@@ -141,6 +273,15 @@ class KDTree(BroadPhase):
         pairs, n_nodes, depth = kdtree_pairs(lo, hi, self.leaf_size, self.max_depth)
         self.stats.update(nodes=n_nodes, depth=depth)
         return pairs
+
+    def _query(self, lo, hi, qx0, qy0, qx1, qy1):
+        tree = build_kdtree(lo, hi, self.leaf_size, self.max_depth)
+        return kdtree_query(lo, hi, *tree, qx0, qy0, qx1, qy1)
+
+    def _raycast(self, lo, hi, ox, oy, ux, uy, max_distance):
+        tree = build_kdtree(lo, hi, self.leaf_size, self.max_depth)
+        (x0, y0), (x1, y1) = bounding_box(lo, hi)
+        return kdtree_raycast(lo, hi, *tree, x0, y0, x1, y1, ox, oy, ux, uy, max_distance)
 
     def describe(self, lo, hi) -> dict:
         """Splits as (axis, value, node_lo, node_hi, depth) in build order, the

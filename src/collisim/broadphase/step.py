@@ -6,8 +6,9 @@ their options. `candidate_pairs(state, lo, hi)` is one compiled function whose i
 is chosen by the *type* of the state when the step is compiled (numba's overload), so a run
 compiles only the broad phase it uses and each choice is cached on its own.
 
-Every kernel returns the contract of broadphase/__init__.py: pairs (k, 2) intp with i < j,
-sorted and unique, containing every pair of overlapping boxes.
+Every kernel returns pairs (k, 2) intp with i < j, each pair once, containing every pair of
+overlapping boxes — in the method's own order: the step sorts only the few that touch, which
+is much cheaper than sorting every candidate (broadphase/__init__.py's functions sort them).
 """
 from collections import namedtuple
 
@@ -15,7 +16,6 @@ import numpy as np
 from numba import njit
 from numba.extending import overload
 
-from ._common import sorted_unique_pairs
 from .brute import brute_force_pairs
 from .bvh import build_bvh, bvh_pairs
 from .grid import bin_boxes, grid_pairs
@@ -53,7 +53,7 @@ def step_state(name: str, world):
 
 @njit(cache=True)
 def _brute(state, lo, hi):
-    return sorted_unique_pairs(brute_force_pairs(lo, hi), lo.shape[0])
+    return brute_force_pairs(lo, hi)
 
 
 @njit(cache=True)
@@ -82,25 +82,24 @@ def _sweep(state, lo, hi):
     if axis != state.axis[0] or repair_order(keys, state.order, n * int(np.ceil(np.log2(n)))) < 0:
         state.order[:] = np.argsort(keys, kind="mergesort")
         state.axis[0] = axis
-    return sorted_unique_pairs(sweep(lo, hi, state.order, axis), n)
+    return sweep(lo, hi, state.order, axis)
 
 
 @njit(cache=True)
 def _grid(state, lo, hi):
     start, boxes = bin_boxes(lo, hi, state.origin, state.cells_per_unit, state.nx, state.ny)
-    raw = grid_pairs(lo, hi, state.origin, state.cells_per_unit, state.nx, state.ny, start, boxes)
-    return sorted_unique_pairs(raw, lo.shape[0])
+    return grid_pairs(lo, hi, state.origin, state.cells_per_unit, state.nx, state.ny, start, boxes)
 
 
 @njit(cache=True)
 def _kdtree(state, lo, hi):
-    return sorted_unique_pairs(kdtree_pairs(lo, hi, state.leaf_size, state.max_depth)[0], lo.shape[0])
+    return kdtree_pairs(lo, hi, state.leaf_size, state.max_depth)[0]
 
 
 @njit(cache=True)
 def _bvh(state, lo, hi):
     order, node_lo, node_hi, first, count, left, _ = build_bvh(lo, hi, state.leaf_size)
-    return sorted_unique_pairs(bvh_pairs(lo, hi, order, node_lo, node_hi, first, count, left), lo.shape[0])
+    return bvh_pairs(lo, hi, order, node_lo, node_hi, first, count, left)
 
 
 KERNELS = {BruteState: _brute, SweepState: _sweep, GridState: _grid, KDTreeState: _kdtree, BVHState: _bvh}

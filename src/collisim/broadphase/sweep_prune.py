@@ -20,6 +20,11 @@ sort repairs an almost-sorted list in nearly linear time, so
 :class:`SweepAndPrune` keeps the order between frames and re-sorts from
 scratch only when it must (first frame, a different number of boxes, the
 sweep axis changed, or the order turned out to be badly scrambled).
+
+Box queries and ray casts use the same sorted order. A box can only meet the
+query (or the ray) if its interval on the sweep axis meets the query's (or
+the ray's) span along that axis; binary searches in the sorted order find the
+run of boxes for which that is possible, and only those are tested.
 """
 
 import math
@@ -27,7 +32,8 @@ import math
 import numpy as np
 from numba import njit
 
-from ._common import BroadPhase, check_boxes, new_pair_buffer, push_pair
+from ._common import BroadPhase, box_meets_query, check_boxes, new_pair_buffer, push_index, push_pair
+from ._rays import crossing, new_hit_buffers, push_hit, ray_box_entry
 
 
 def sweep_axis(lo: np.ndarray, hi: np.ndarray) -> int:
@@ -97,6 +103,102 @@ def repair_order(keys, order, max_shifts):
     return shifts
 
 
+@njit(cache=True)
+def sorted_intervals(lo, hi, order, axis):
+    """The boxes' intervals on `axis` in sweep order, for binary searches.
+
+    lo, hi: (n, 2); order: (n,) sorted by lo[:, axis]. Returns starts (n,),
+    lo[order, axis], ascending, and reach (n,): reach[p] is the largest
+    hi[:, axis] among the first p + 1 boxes of the order.
+
+    The starts alone do not say where the boxes that could still overlap
+    begin: a long box starting far back may reach past the query. Walking
+    back from the query until the boxes get too far away needs the largest
+    extent, and "lo + extent >= query" rounds; reach is ascending too, so a
+    binary search in it finds the first box from which some earlier-starting
+    box (or itself) gets far enough, using only exact comparisons. One giant
+    box near the start makes that run long, as it would make the largest
+    extent large.
+    """
+    n = order.shape[0]
+    starts = np.empty(n)
+    reach = np.empty(n)
+    furthest = -np.inf
+    for p in range(n):
+        i = order[p]
+        starts[p] = lo[i, axis]
+        furthest = max(furthest, hi[i, axis])
+        reach[p] = furthest
+    return starts, reach
+
+
+@njit(cache=True)
+def sweep_query(lo, hi, order, axis, qx0, qy0, qx1, qy1):
+    """Boxes overlapping the query box [qx0, qx1] x [qy0, qy1].
+
+    lo, hi: (n, 2); order: (n,) sorted by lo[:, axis]. Returns (found (k,)
+    intp, number of boxes tested): only the boxes from the first whose reach
+    gets to the query's min to the last starting no later than its max.
+    """
+    starts, reach = sorted_intervals(lo, hi, order, axis)
+    q_min, q_max = (qx0, qx1) if axis == 0 else (qy0, qy1)
+    first = np.searchsorted(reach, q_min, side="left")  # earlier boxes all end before q_min
+    end = np.searchsorted(starts, q_max, side="right")  # later boxes all start after q_max
+    found, count = np.empty(16, np.intp), 0
+    for p in range(first, end):
+        i = order[p]
+        if box_meets_query(lo, hi, i, qx0, qy0, qx1, qy1):
+            found, count = push_index(found, count, i)
+    return found[:count], max(end - first, 0)
+
+
+@njit(cache=True)
+def first_position(values, o, u, max_distance, within):
+    """First p at which the ray reaches values[p] within max_distance
+    (within=True) or only beyond it (within=False): crossing(o, u, values[p])
+    <= max_distance, or > max_distance. values: (n,); the answer must be
+    false up to some p and true from there on. Returns p in 0 .. n."""
+    low, high = 0, values.shape[0]
+    while low < high:
+        mid = (low + high) // 2
+        if (crossing(o, u, values[mid]) <= max_distance) == within:
+            high = mid
+        else:
+            low = mid + 1
+    return low
+
+
+@njit(cache=True)
+def sweep_raycast(lo, hi, order, axis, ox, oy, ux, uy, max_distance):
+    """Boxes the ray meets, among those whose sweep-axis interval its span crosses.
+
+    lo, hi: (n, 2); order: (n,) sorted by lo[:, axis]. Returns found (k,)
+    intp, t_enter (k,) float64 and the number of boxes tested.
+
+    The span is compared in ray time t, with the same crossing() the slab test
+    uses, rather than by computing the far end o + max_distance * u (which
+    rounds, and could cut off a box the slab test touches at max_distance).
+    """
+    starts, reach = sorted_intervals(lo, hi, order, axis)
+    o, u = (ox, ux) if axis == 0 else (oy, uy)
+    if u > 0:  # travelling up the axis: boxes must end at or after o, start within reach
+        first = np.searchsorted(reach, o, side="left")
+        end = first_position(starts, o, u, max_distance, False)
+    elif u < 0:  # travelling down: boxes must start at or before o, end within reach
+        first = first_position(reach, o, u, max_distance, True)
+        end = np.searchsorted(starts, o, side="right")
+    else:  # across the sweep axis: boxes must contain o on it
+        first = np.searchsorted(reach, o, side="left")
+        end = np.searchsorted(starts, o, side="right")
+    (found, t_enter), count = new_hit_buffers(), 0
+    for p in range(first, end):
+        i = order[p]
+        t = ray_box_entry(ox, oy, ux, uy, max_distance, lo[i, 0], lo[i, 1], hi[i, 0], hi[i, 1])
+        if t < np.inf:
+            found, t_enter, count = push_hit(found, t_enter, count, i, t)
+    return found[:count], t_enter[:count], max(end - first, 0)
+
+
 class SweepAndPrune(BroadPhase):
     """Sweep and prune that keeps its sorted order from frame to frame."""
 
@@ -108,6 +210,22 @@ class SweepAndPrune(BroadPhase):
         self._axis = -1
 
     def _find(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+        axis = self._sort(lo, hi)
+        return sweep(lo, hi, self._order, axis)
+
+    def _query(self, lo, hi, qx0, qy0, qx1, qy1):
+        axis = self._sort(lo, hi)
+        found, tested = sweep_query(lo, hi, self._order, axis, qx0, qy0, qx1, qy1)
+        return found, tested, tested
+
+    def _raycast(self, lo, hi, ox, oy, ux, uy, max_distance):
+        axis = self._sort(lo, hi)
+        found, t_enter, tested = sweep_raycast(lo, hi, self._order, axis,
+                                               ox, oy, ux, uy, max_distance)
+        return found, t_enter, tested, tested
+
+    def _sort(self, lo: np.ndarray, hi: np.ndarray) -> int:
+        """Bring self._order up to date (repaired, or sorted afresh); the sweep axis."""
         axis = sweep_axis(lo, hi)
         keys = np.ascontiguousarray(lo[:, axis])
         shifts = self._repair(keys, axis)
@@ -115,7 +233,7 @@ class SweepAndPrune(BroadPhase):
             self._order = np.argsort(keys, kind="stable")
             self._axis = axis
         self.stats.update(axis=axis, resorted=shifts < 0, shifts=max(shifts, 0))
-        return sweep(lo, hi, self._order, axis)
+        return axis
 
     def _repair(self, keys: np.ndarray, axis: int) -> int:
         """Insertion-sort last frame's order; -1 if it has to be sorted afresh."""

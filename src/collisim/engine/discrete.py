@@ -62,16 +62,23 @@ def _bounds(bodies, lo, hi):
 
 
 @njit(cache=True)
-def _pair_phases(bodies, statics, broad, lo, hi, log, now, counts, phase_cycles, t):
+def sort_pairs(pairs, n):
+    """Pairs (k, 2) with i < j, each once, in lexicographic (i, j) order: the canonical order
+    in which the response treats contacts, whichever broad phase found them."""
+    return pairs[np.argsort(pairs[:, 0] * n + pairs[:, 1])]
+
+
+@njit(cache=True)
+def _pair_phases(bodies, statics, broad, lo, hi, log, now, frame_collisions, phase_cycles, t):
     """broad, narrow and response: returns (contacts, candidates, log, t)."""
     b = bodies
     _bounds(b, lo, hi)
     pairs = candidate_pairs(broad, lo, hi)
     t = _lap(phase_cycles, BROAD, t)
-    contacts = touching_pairs(b.shapes, b.positions, b.radii, pairs)
+    contacts = sort_pairs(touching_pairs(b.shapes, b.positions, b.radii, pairs), lo.shape[0])
     t = _lap(phase_cycles, NARROW, t)
     impulse, point = np.empty(contacts.shape[0]), np.empty((contacts.shape[0], 2))
-    counts[PAIR] += resolve_pairs(b.shapes, b.positions, b.velocities, b.masses, b.radii, contacts,
+    frame_collisions[PAIR] += resolve_pairs(b.shapes, b.positions, b.velocities, b.masses, b.radii, contacts,
                                   contacts.shape[0], statics.restitution, impulse, point)
     log = with_room(log, contacts.shape[0])
     for c in range(contacts.shape[0]):
@@ -88,8 +95,8 @@ def statics_scratch(m):
 
 
 @njit(cache=True)
-def statics_phase(bodies, statics, scratch, log, now, counts):
-    """Segments, then walls, in place; collisions added to counts (3,) and log. scratch from
+def statics_phase(bodies, statics, scratch, log, now, frame_collisions):
+    """Segments, then walls, in place; collisions added to frame_collisions (3,: wall, pair, segment) and log. scratch from
     statics_scratch. Returns the log."""
     b, s = bodies, statics
     if s.segments.shape[0] > 0:
@@ -101,7 +108,7 @@ def statics_phase(bodies, statics, scratch, log, now, counts):
                                                s.restitution)
             if impulse > 0.0:
                 append(log, now, SEGMENT, i, k, impulse, x, y)
-                counts[SEGMENT] += 1
+                frame_collisions[SEGMENT] += 1
     log = with_room(log, 4 * b.positions.shape[0])  # at most one event per body and wall
     for i in range(b.positions.shape[0]):
         for axis in range(2):
@@ -114,7 +121,7 @@ def statics_phase(bodies, statics, scratch, log, now, counts):
                 _log_wall(log, now, b.positions, s.box, i, axis, 0, low_impulse)
             if high_bounces > 0:
                 _log_wall(log, now, b.positions, s.box, i, axis, 1, high_impulse)
-            counts[WALL] += low_bounces + high_bounces
+            frame_collisions[WALL] += low_bounces + high_bounces
     return log
 
 
@@ -138,7 +145,7 @@ def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, phase
     scratch = statics_scratch(s.segments.shape[0])
     t = start
     for frame in range(out.positions.shape[0]):
-        counts = out.collisions[frame]
+        frame_collisions = out.collisions[frame]
         for _ in range(substeps):
             step_count += 1
             now = step_count * dt
@@ -147,9 +154,9 @@ def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, phase
             t = _lap(phase_cycles, INTEGRATE, t)
             contacts = np.empty((0, 2), np.intp)
             if n >= 2:
-                contacts, candidates, log, t = _pair_phases(b, s, broad, lo, hi, log, now, counts, phase_cycles, t)
+                contacts, candidates, log, t = _pair_phases(b, s, broad, lo, hi, log, now, frame_collisions, phase_cycles, t)
                 out.candidates[frame] = candidates
-            log = statics_phase(b, s, scratch, log, now, counts)
+            log = statics_phase(b, s, scratch, log, now, frame_collisions)
             t = _lap(phase_cycles, STATICS, t)
             if contacts.shape[0] > 0:
                 separate_pairs(b.shapes, b.positions, b.masses, b.radii, contacts, contacts.shape[0])
@@ -157,16 +164,29 @@ def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, phase
                 t = _lap(phase_cycles, SETTLE, t)
         out.positions[frame] = b.positions
         out.velocities[frame] = b.velocities
-        out.angles[frame] = b.angles
-        out.angular_velocities[frame] = b.angular_velocities
+        if out.angles.shape[1] == n:  # bodies that turn (see new_frames)
+            out.angles[frame] = b.angles
+            out.angular_velocities[frame] = b.angular_velocities
         t = _lap(phase_cycles, RECORD, t)
     phase_cycles[TOTAL] += cycles() - start
     return log
 
 
-def new_frames(count: int, n: int) -> Frames:
-    return Frames(np.empty((count, n, 2)), np.empty((count, n, 2)), np.empty((count, n)), np.empty((count, n)),
-                  np.zeros((count, 3), np.int64), np.zeros(count, np.int64))
+def new_frames(count: int, n: int, turning: bool = True) -> Frames:
+    """Room for `count` frames of n bodies. Without `turning` the angle arrays have no columns:
+    bodies that never turn keep their angles, and storing them every frame would cost as much
+    memory traffic as the positions (see constant_angles)."""
+    columns = n if turning else 0
+    return Frames(np.empty((count, n, 2)), np.empty((count, n, 2)), np.empty((count, columns)),
+                  np.empty((count, columns)), np.zeros((count, 3), np.int64), np.zeros(count, np.int64))
+
+
+def constant_angles(frames: Frames, angles, angular_velocities) -> Frames:
+    """Frames whose angle arrays are read-only views repeating the bodies' constant angles and
+    angular velocities (no memory per frame)."""
+    count = len(frames.positions)
+    return frames._replace(angles=np.broadcast_to(angles, (count, len(angles))),
+                           angular_velocities=np.broadcast_to(angular_velocities, (count, len(angles))))
 
 
 class DiscreteStepper:
@@ -189,9 +209,12 @@ class DiscreteStepper:
 
     def run(self, count: int):
         """Advance `count` frames: (Frames, Events)."""
-        out = new_frames(count, len(self.bodies.positions))
+        b = self.bodies
+        turning = bool(np.any(b.angular_velocities != 0.0))  # nothing exerts torque yet: ω stays as given
+        out = new_frames(count, len(b.positions), turning)
         log = self.profile.timed(lambda phase_cycles: run_frames(
-            self.bodies, self.statics, self.broad, self.dt, self.substeps, self.step_count, out, new_log(64),
-            phase_cycles))
+            b, self.statics, self.broad, self.dt, self.substeps, self.step_count, out, new_log(64), phase_cycles))
         self.step_count += count * self.substeps
+        if not turning:
+            out = constant_angles(out, b.angles.copy(), b.angular_velocities.copy())
         return out, log_events(log)

@@ -26,7 +26,7 @@ import time
 
 import numpy as np
 
-from collisim.broadphase import METHODS, make
+from collisim.broadphase import NAMES, make
 
 BRUTE_MAX_N = 3000  # brute force above this would take minutes
 RADII = (1.0, 1.5, 2.0)
@@ -134,7 +134,7 @@ def warm_up() -> None:
     """Compile (or load from numba's cache) every kernel before anything is
     timed: two frames each, so sweep and prune's order repair runs too."""
     positions, radii = random_gas(50, 0.1, 0)
-    for method in METHODS:
+    for method in NAMES:
         phase = make(method)
         phase.pairs(*boxes(positions, radii))
         phase.pairs(*boxes(positions + 0.01, radii))
@@ -145,14 +145,14 @@ def measure(sizes, packing: float, repeats: int, seed: int, progress: bool) -> l
     from tqdm import tqdm
 
     rows = []
-    tasks = sum(len(METHODS) - (n > BRUTE_MAX_N) + len(REFERENCES) for n in sizes)
+    tasks = sum(len(NAMES) - (n > BRUTE_MAX_N) + len(REFERENCES) for n in sizes)
     with tqdm(total=tasks, file=sys.stderr, disable=not progress, desc="broad phase") as bar:
         for n in sizes:
             positions, radii = random_gas(n, packing, seed)
             moved = positions + np.random.default_rng(seed + 1).normal(0, NUDGE, positions.shape) * radii[:, None]
             frame_a, frame_b = boxes(positions, radii), boxes(moved, radii)
             true_pairs = touching_pairs(moved, radii, make("grid").pairs(*frame_b))
-            for method in METHODS:
+            for method in NAMES:
                 if method == "brute" and n > BRUTE_MAX_N:
                     continue
                 bar.set_postfix_str(f"n={n} {method}")
@@ -192,7 +192,7 @@ def plot(rows: list[dict], path: pathlib.Path, packing: float) -> None:
     labels = {"scipy_ckdtree": "scipy cKDTree build + query_pairs",
               "pymunk_step": "pymunk Space.step: a whole step of a moving gas",
               "discrete_step": "collisim discrete step (grid): a whole step of the same gas"}
-    for method in (*METHODS, *REFERENCES):
+    for method in (*NAMES, *REFERENCES):
         mine = [row for row in rows if row["method"] == method]
         axes.plot([row["n"] for row in mine], [row["seconds_per_frame"] for row in mine],
                   linestyle="--" if method in REFERENCES else "-", marker="o", markersize=3,
@@ -214,7 +214,7 @@ def fastest_vs_ckdtree(rows: list[dict]) -> dict:
     for n in sorted({row["n"] for row in rows}):
         at_n = [row for row in rows if row["n"] == n]
         reference = next(row["seconds_per_frame"] for row in at_n if row["method"] == "scipy_ckdtree")
-        best = min((row for row in at_n if row["method"] in METHODS), key=lambda row: row["seconds_per_frame"])
+        best = min((row for row in at_n if row["method"] in NAMES), key=lambda row: row["seconds_per_frame"])
         result[n] = {"method": best["method"], "ratio": best["seconds_per_frame"] / reference}
     return result
 

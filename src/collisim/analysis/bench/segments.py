@@ -8,14 +8,14 @@ grows; testing every body against every segment would make it grow like m.
 from __future__ import annotations
 
 import json
-import time
 from pathlib import Path
 
 import numpy as np
 
 import collisim
-from collisim.engine.discrete import DiscreteStepper
 from collisim.gas import lattice_gas
+
+from .broadphase import time_discrete_step
 
 
 def segment_gas(n: int, m: int, seed: int = 3) -> collisim.World:
@@ -31,24 +31,13 @@ def segment_gas(n: int, m: int, seed: int = 3) -> collisim.World:
     return collisim.World(positions, velocities, radii, box=box, segments=np.column_stack([starts, ends]))
 
 
-def seconds_per_frame(world, frames: int, repeats: int) -> float:
-    """Median wall seconds per frame of the discrete step (grid) over `frames` frames."""
-    stepper = DiscreteStepper(world, 60.0, 1, "grid")
-    stepper.run(1)   # compile or load outside the clock
-    samples = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        stepper.run(frames)
-        samples.append((time.perf_counter() - start) / frames)
-    return float(np.median(samples))
-
-
-def run(out_dir: Path, n: int = 18_000, m: int = 2_000, frames: int = 10, repeats: int = 3) -> dict:
-    """Time both worlds in one run; write segments.json; return the figures."""
+def run(out_dir: Path, n: int = 18_000, m: int = 2_000, repeats: int = 3) -> dict:
+    """Time both worlds in one run (seconds per frame of the discrete step, grid, median of
+    repeats); write segments.json; return the figures."""
     with_segments = segment_gas(n, m)
     without = with_segments.copy(segments=None)
-    plain = seconds_per_frame(without, frames, repeats)
-    statics = seconds_per_frame(with_segments, frames, repeats)
+    plain = time_discrete_step(collisim.Scene(world=without), repeats)
+    statics = time_discrete_step(collisim.Scene(world=with_segments), repeats)
     figures = {"bodies": n, "segments": m, "seconds_per_frame_without": plain,
                "seconds_per_frame_with": statics, "ratio": statics / plain}
     path = Path(out_dir) / "segments.json"
