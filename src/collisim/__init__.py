@@ -7,8 +7,9 @@ from .engine import simulate, stream
 from .model import Events, Panel, RenderSettings, Scene, Trajectory, World, load_trajectory
 from .model.scenefile import load_scene
 from .narrowphase import contacts
+from .notebook import show
 from .pipeline import render
 
 __version__ = "0.1.0"
 __all__ = ["World", "Scene", "Panel", "RenderSettings", "Trajectory", "Events", "simulate", "stream", "render",
-           "load_scene", "load_trajectory", "contacts"]
+           "load_scene", "load_trajectory", "contacts", "show"]

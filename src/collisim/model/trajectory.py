@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..notebook import trajectory_preview_html
 from .world import World
 
 FILE_FORMAT = 1  # the version of the trajectory file written by save()
@@ -93,6 +94,8 @@ class Trajectory:
     substeps: int = 1
     profile: dict = field(default_factory=dict)
     warnings: list = field(default_factory=list)
+
+    _repr_html_ = trajectory_preview_html  # Jupyter shows a short preview video (notebook.py)
 
     @property
     def frames(self) -> int:
