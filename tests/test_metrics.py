@@ -17,7 +17,8 @@ def trajectory(positions, velocities=None, radii=0.5, masses=1.0, events=None):
     positions = np.asarray(positions, float)
     frames, n = positions.shape[:2]
     zeros = np.zeros(frames, np.int64)
-    world = World(np.zeros((n, 2)), radii=np.broadcast_to(np.asarray(radii, float), (n,)),
+    spread = np.column_stack([10.0 * np.arange(n), np.zeros(n)])   # the World only needs a valid start
+    world = World(spread, radii=np.broadcast_to(np.asarray(radii, float), (n,)),
                   masses=np.broadcast_to(np.asarray(masses, float), (n,)), box=(-1e6, -1e6, 1e6, 1e6))
     return Trajectory(times=np.arange(frames) / FPS, positions=positions,
                       velocities=np.zeros_like(positions) if velocities is None else np.asarray(velocities, float),
@@ -85,7 +86,7 @@ def test_max_overlap_matches_brute_force(rng):
 
 
 def test_outside_counts_centres_out_of_the_box():
-    world = collisim.World([[5.0, 5.0], [5.0, 5.0], [5.0, 5.0]], radii=0.5)      # box 0..10
+    world = collisim.World([[2.0, 5.0], [5.0, 5.0], [8.0, 5.0]], radii=0.5)      # box 0..10
     positions = np.array([[[5, 5], [5, 5], [5, 5]],
                           [[-0.2, 5], [9.8, 5], [5, 5]],     # first escaped, second only grazes
                           [[5, 5], [9.8, 5], [5, 10.3]]], float)
@@ -145,7 +146,7 @@ def test_event_at_a_frame_time_belongs_to_the_interval_it_ends():
 
 
 def barrier_world():
-    return collisim.World([[5.0, 5.0], [1.0, 1.0]], radii=0.2, segments=[[5.0, 2.0, 5.0, 8.0]])
+    return collisim.World([[4.0, 5.0], [1.0, 1.0]], radii=0.2, segments=[[5.0, 2.0, 5.0, 8.0]])
 
 
 def test_barrier_crossing_within_the_segment():

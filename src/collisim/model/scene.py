@@ -3,9 +3,13 @@ it. Scene files that build one are loaded by scenefile.py."""
 from __future__ import annotations
 
 import dataclasses
+import warnings
 from dataclasses import dataclass, field
 from typing import Callable, Optional
 
+import numpy as np
+
+from . import validate
 from .world import World
 
 QUALITY_SIZES = {"l": (854, 480), "m": (1280, 720), "h": (1920, 1080)}
@@ -74,18 +78,23 @@ class Scene:
         return int(round(self.fps * self.seconds))
 
     def validate(self) -> None:
-        _check_positive("fps", self.fps)
-        _check_positive("seconds", self.seconds)
+        """Check (and normalise) the fields; ValueError with one line for anything wrong."""
+        self.fps = validate.number("fps", self.fps, positive=True)
+        self.seconds = validate.number("seconds", self.seconds, positive=True)
         if self.frames < 1:
             raise ValueError(f"seconds={self.seconds:g} at fps={self.fps:g} is shorter than one frame")
+        if abs(self.frames - self.fps * self.seconds) > 1e-9 * self.frames:
+            warnings.warn(f"{self.seconds:g} s at {self.fps:g} fps is {self.fps * self.seconds:g} frames; "
+                          f"using {self.frames} frames ({self.frames / self.fps:g} s)", stacklevel=4)
         from ..broadphase import NAMES as BROAD_PHASES
         from ..engine import METHODS
         if self.method not in METHODS:
-            raise ValueError(f"unknown method '{self.method}'; choose one of: {', '.join(METHODS)}")
-        if int(self.substeps) != self.substeps or self.substeps < 1:
-            raise ValueError(f"substeps must be a whole number >= 1, got {self.substeps}")
+            raise ValueError(f"unknown method {self.method!r}; choose one of: {', '.join(METHODS)}")
+        if isinstance(self.substeps, bool) or not isinstance(self.substeps, (int, np.integer)) or self.substeps < 1:
+            raise ValueError(f"substeps must be a whole number >= 1, got {self.substeps!r}")
+        self.substeps = int(self.substeps)
         if self.broadphase not in BROAD_PHASES:
-            raise ValueError(f"unknown broad phase '{self.broadphase}'; choose one of: {', '.join(BROAD_PHASES)}")
+            raise ValueError(f"unknown broad phase {self.broadphase!r}; choose one of: {', '.join(BROAD_PHASES)}")
         if sum((self.world is not None, bool(self.panels), bool(self.chapters))) != 1:
             raise ValueError("a scene needs exactly one of: a world, panels, chapters")
 
@@ -110,12 +119,3 @@ class Scene:
                 physics["world"] = scene.world.copy(restitution=float(restitution))
             scene = scene.replace(**physics)
         return scene
-
-
-def _check_positive(name: str, value) -> None:
-    try:
-        ok = float(value) > 0 and float(value) < float("inf")
-    except (TypeError, ValueError):
-        ok = False
-    if not ok:
-        raise ValueError(f"{name} must be a finite number > 0, got {value}")

@@ -10,22 +10,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..palette import default_colors
+from . import validate
 from .kinds import CIRCLE
-
-
-def _float_array(name: str, value, shape: tuple) -> np.ndarray:
-    array = np.array(value, dtype=np.float64)
-    try:
-        array = np.broadcast_to(array, shape).copy()
-    except ValueError:
-        raise ValueError(f"{name} must have shape {_shape_text(shape)}, got {array.shape}") from None
-    if not np.all(np.isfinite(array)):
-        raise ValueError(f"{name} contains NaN or inf")
-    return array
-
-
-def _shape_text(shape: tuple) -> str:
-    return "(" + ", ".join(str(s) for s in shape) + ("," if len(shape) == 1 else "") + ")"
 
 
 class World:
@@ -52,28 +38,25 @@ class World:
                  box=(0.0, 0.0, 10.0, 10.0), gravity=(0.0, 0.0), accelerations=None,
                  colors=None, restitution: float = 1.0, segments=None, angles=0.0,
                  angular_velocities=0.0):
-        positions = np.asarray(positions, dtype=np.float64)
-        if positions.ndim != 2 or positions.shape[1] != 2:
-            positions = positions.reshape(-1, 2) if positions.size == 0 else positions
-        n = len(positions)
-        self.positions = _float_array("positions", positions, (n, 2))
-        self.velocities = _float_array("velocities", 0.0 if velocities is None else velocities, (n, 2))
-        self.angles = _float_array("angles", angles, (n,))
-        self.angular_velocities = _float_array("angular_velocities", angular_velocities, (n,))
-        self.gravity = _float_array("gravity", gravity, (2,))
-        accelerations = self.gravity if accelerations is None else accelerations
-        self.accelerations = _float_array("accelerations", accelerations, (n, 2))
-        self.radii = _float_array("radii", radii, (n,))
-        if masses is None:
-            masses = np.pi * self.radii ** 2
-        self.masses = _float_array("masses", masses, (n,))
+        self.positions = validate.positions_array(positions)
+        n = len(self.positions)
+        self.velocities = validate.per_body("velocities", 0.0 if velocities is None else velocities, n, 2)
+        self.angles = validate.per_body("angles", angles, n)
+        self.angular_velocities = validate.per_body("angular_velocities", angular_velocities, n)
+        self.gravity = validate.per_body("gravity", gravity, 1, 2)[0]
+        self.accelerations = validate.per_body("accelerations", self.gravity if accelerations is None
+                                               else accelerations, n, 2)
+        self.radii = validate.per_body("radii", radii, n)
+        self.masses = validate.per_body("masses", np.pi * self.radii ** 2 if masses is None else masses, n)
+        if masses is None and np.any((self.masses == 0) & (self.radii > 0)):
+            i = int(np.flatnonzero((self.masses == 0) & (self.radii > 0))[0])
+            raise ValueError(f"radius {self.radii[i]:g} of body {i} is too small: its area is 0 in floating point")
         self.shapes = np.full(n, CIRCLE, np.int8)
-        self.box = _float_array("box", box, (4,))
-        segments = np.zeros((0, 4)) if segments is None else np.reshape(np.asarray(segments, np.float64), (-1, 4))
-        self.segments = _float_array("segments", segments, segments.shape)
-        self.restitution = float(restitution)
-        if not np.isfinite(self.restitution):
-            raise ValueError("restitution contains NaN or inf")
+        self.box = validate.per_body("box", box, 4)
+        self.segments = validate.segments_array(segments)
+        if restitution is None:
+            raise ValueError("restitution must be a number in [0, 1], got None")
+        self.restitution = validate.number("restitution", restitution, low=0.0, high=1.0)
         self.colors = default_colors(self.radii) if colors is None else np.array(colors, dtype=np.uint8).reshape(n, 3)
         self.validate()
 
@@ -92,12 +75,10 @@ class World:
         return self.n == 0 or bool(np.all(self.accelerations == self.accelerations[0]))
 
     def validate(self) -> None:
-        """Raise ValueError with one clear line for any state the engine cannot run."""
+        """Raise ValueError with one clear line for any state the engine cannot run (model/validate.py)."""
         xmin, ymin, xmax, ymax = self.box
         if not (xmax > xmin and ymax > ymin):
-            raise ValueError(f"box must have xmax > xmin and ymax > ymin, got {tuple(self.box)}")
-        if not 0.0 <= self.restitution <= 1.0:
-            raise ValueError(f"restitution must be in [0, 1], got {self.restitution}")
+            raise ValueError(f"box must have xmax > xmin and ymax > ymin, got {self.box.tolist()}")
         for name, values in (("radius", self.radii), ("mass", self.masses)):
             bad = np.flatnonzero(values <= 0)
             if bad.size:
@@ -112,6 +93,7 @@ class World:
             i = np.flatnonzero(outside)[0]
             x, y = self.positions[i]
             raise ValueError(f"particle {i} at ({x:g}, {y:g}) with radius {self.radii[i]:g} is outside the box")
+        validate.no_overlaps(self)
 
     def copy(self, **changes) -> "World":
         """A copy, with keyword changes (e.g. restitution=0.5), validated."""
@@ -119,6 +101,8 @@ class World:
                       box=self.box, gravity=self.gravity, accelerations=self.accelerations, colors=self.colors,
                       restitution=self.restitution, segments=self.segments, angles=self.angles,
                       angular_velocities=self.angular_velocities)
+        if "gravity" in changes and "accelerations" not in changes:
+            fields["accelerations"] = None   # every body follows the new gravity
         fields.update(changes)
         return World(**fields)
 

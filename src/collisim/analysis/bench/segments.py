@@ -18,17 +18,30 @@ from collisim.gas import lattice_gas
 from .broadphase import time_discrete_step
 
 
-def segment_gas(n: int, m: int, seed: int = 3) -> collisim.World:
-    """n bodies on a jittered lattice (packing about 0.1) and m random segments of about two
-    body diameters, in a square box."""
+def segment_gas(n: int, m: int, seed: int = 3, length: float = 1.2) -> collisim.World:
+    """About n bodies on a jittered lattice (packing about 0.1) among m random segments of
+    `length`, in a square box; the bodies a segment would cut through are left out."""
     side = float(np.sqrt(n * np.pi * 0.3 ** 2 / 0.1))
     box = (0.0, 0.0, side, side)
     positions, velocities, radii = lattice_gas(n, box=box, speed=3.0, seed=seed, sizes=(0.3,), shares=(1.0,))
     rng = np.random.default_rng(seed)
     starts = rng.uniform(0.0, side, (m, 2))
     angles = rng.uniform(0.0, np.pi, m)
-    ends = np.clip(starts + 1.2 * np.column_stack([np.cos(angles), np.sin(angles)]), 0.0, side)
-    return collisim.World(positions, velocities, radii, box=box, segments=np.column_stack([starts, ends]))
+    ends = np.clip(starts + length * np.column_stack([np.cos(angles), np.sin(angles)]), 0.0, side)
+    segments = np.column_stack([starts, ends])
+    free = ~touching_a_segment(positions, radii, segments, box)
+    return collisim.World(positions[free], velocities[free], radii[free], box=box, segments=segments)
+
+
+def touching_a_segment(positions, radii, segments, box) -> np.ndarray:
+    """(n,) bool: which circles touch or cross one of the segments."""
+    from collisim.narrowphase.statics import empty_contacts, segment_contacts
+    from collisim.statics.segment_index import build_segment_index
+    found, count = segment_contacts(positions, radii, segments, build_segment_index(segments, box),
+                                    empty_contacts(), np.empty(len(segments), np.int64))
+    touching = np.zeros(len(positions), bool)
+    touching[found[:count, 0]] = True
+    return touching
 
 
 def run(out_dir: Path, n: int = 18_000, m: int = 2_000, repeats: int = 3) -> dict:

@@ -1,0 +1,113 @@
+"""Checks that turn a state the engine cannot run into one clear line (ValueError).
+
+Arrays are checked for shape before anything is broadcast (a single body written flat as
+[x, y] is a mistake, not two bodies), numbers for type and range, and the initial state for
+overlaps: bodies that start inside each other, or inside a segment, have no defined contact
+normal or order of events, so every method would silently do something different.
+Touching is allowed (within a relative 1e-9, so bodies placed touching by arithmetic pass).
+"""
+from __future__ import annotations
+
+import numbers
+
+import numpy as np
+
+TOUCH_TOLERANCE = 1e-9   # relative to the contact distance
+
+
+def number(name: str, value, *, low=None, high=None, positive=False) -> float:
+    """value as a finite float, or ValueError naming `name`."""
+    if isinstance(value, bool) or not isinstance(value, (numbers.Real, np.number)):
+        raise ValueError(f"{name} must be a number, got {value!r}")
+    value = float(value)
+    if positive and not (np.isfinite(value) and value > 0):
+        raise ValueError(f"{name} must be a finite number > 0, got {value:g}")
+    if not np.isfinite(value):
+        raise ValueError(f"{name} must be finite, got {value:g}")
+    if (low is not None and value < low) or (high is not None and value > high):
+        raise ValueError(f"{name} must be in [{low:g}, {high:g}], got {value:g}")
+    return value
+
+
+def per_body(name: str, value, n: int, columns: int | None = None) -> np.ndarray:
+    """A per-body array: (n,) or (n, columns) float64, from a scalar (or one row) broadcast to
+    every body, or from an array of exactly that shape. Anything else is one clear line."""
+    try:
+        array = np.array(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be numbers, got {_short(value)}") from None
+    shape = (n,) if columns is None else (n, columns)
+    single = () if columns is None else (columns,)
+    if array.shape not in (shape, single, ()):
+        want = f"({n},)" if columns is None else f"({n}, {columns})"
+        raise ValueError(f"{name} must have shape {want} for {n} bod{'y' if n == 1 else 'ies'}, "
+                         f"got shape {array.shape}")
+    if not np.all(np.isfinite(array)):
+        raise ValueError(f"{name} contains NaN or inf")
+    return np.broadcast_to(array, shape).copy()
+
+
+def positions_array(value) -> np.ndarray:
+    """Centres (n, 2); [] for no bodies. One body is [[x, y]], never [x, y]."""
+    try:
+        array = np.array(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValueError(f"positions must be numbers, got {_short(value)}") from None
+    if array.size == 0:
+        return np.zeros((0, 2))
+    if array.ndim != 2 or array.shape[1] != 2:
+        hint = " (one body is written [[x, y]])" if array.shape == (2,) else ""
+        raise ValueError(f"positions must have shape (n, 2), got shape {array.shape}{hint}")
+    if not np.all(np.isfinite(array)):
+        raise ValueError("positions contains NaN or inf")
+    return array
+
+
+def segments_array(value) -> np.ndarray:
+    """Segments (m, 4) rows x0, y0, x1, y1; None or [] for none."""
+    if value is None:
+        return np.zeros((0, 4))
+    try:
+        array = np.array(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValueError(f"segments must be numbers, got {_short(value)}") from None
+    if array.size == 0:
+        return np.zeros((0, 4))
+    if array.ndim == 1 and array.shape == (4,):
+        array = array[None]
+    if array.ndim != 2 or array.shape[1] != 4:
+        raise ValueError(f"segments must have shape (m, 4) rows x0, y0, x1, y1, got shape {array.shape}")
+    if not np.all(np.isfinite(array)):
+        raise ValueError("segments contains NaN or inf")
+    return array
+
+
+def no_overlaps(world) -> None:
+    """ValueError naming the first pair of bodies, or body and segment, that overlap."""
+    from ..broadphase import find_pairs
+    if world.n >= 2:
+        reach = world.radii[:, None]
+        pairs = find_pairs("grid", world.positions - reach, world.positions + reach)
+        gap = np.hypot(*(world.positions[pairs[:, 1]] - world.positions[pairs[:, 0]]).T)
+        contact = world.radii[pairs].sum(axis=1)
+        deep = np.flatnonzero(gap < contact * (1 - TOUCH_TOLERANCE))
+        if deep.size:
+            i, j = pairs[deep[0]]
+            raise ValueError(f"bodies {i} and {j} overlap by {contact[deep[0]] - gap[deep[0]]:.3g} at the start; "
+                             f"place them apart or touching")
+    if len(world.segments):
+        from ..narrowphase.statics import circle_segment, empty_contacts, segment_contacts
+        from ..statics.segment_index import build_segment_index
+        index = build_segment_index(world.segments, world.box)
+        touching, count = segment_contacts(world.positions, world.radii, world.segments, index, empty_contacts(),
+                                           np.empty(len(world.segments), np.int64))
+        for i, s in touching[:count]:   # the few that touch: which of them overlap?
+            depth = circle_segment(world.positions, world.radii, i, world.segments, s)[2]
+            if depth > world.radii[i] * TOUCH_TOLERANCE:
+                raise ValueError(f"body {i} overlaps segment {s} by {depth:.3g} at the start; "
+                                 f"place it apart or touching")
+
+
+def _short(value) -> str:
+    text = repr(value)
+    return text if len(text) <= 40 else text[:37] + "..."

@@ -1,0 +1,66 @@
+"""Bad worlds and scenes are one ValueError line in the product's words, before anything runs."""
+import warnings
+
+import numpy as np
+import pytest
+
+import collisim
+
+BAD_WORLDS = {
+    "one body written flat": (dict(positions=[1.0, 2.0]), r"positions must have shape \(n, 2\).*\[\[x, y\]\]"),
+    "velocities of the wrong shape": (dict(positions=[[1, 1]], velocities=[1, 2, 3]),
+                                      r"velocities must have shape \(1, 2\) for 1 body, got shape \(3,\)"),
+    "overlapping bodies": (dict(positions=[[1, 1], [1.5, 1]], radii=0.5), "bodies 0 and 1 overlap by 0.5"),
+    "coincident bodies": (dict(positions=[[3, 3], [6, 6], [3, 3]], radii=0.5), "bodies 0 and 2 overlap by 1"),
+    "body on a segment": (dict(positions=[[5, 5]], radii=0.5, segments=[[0, 5, 10, 5]]),
+                          "body 0 overlaps segment 0 by 0.5"),
+    "restitution None": (dict(positions=[[1, 1]], restitution=None), "restitution must be a number"),
+    "restitution text": (dict(positions=[[1, 1]], restitution="1"), "restitution must be a number"),
+    "restitution above 1": (dict(positions=[[1, 1]], restitution=1.5), r"restitution must be in \[0, 1\]"),
+    "radius too small for an area": (dict(positions=[[1, 1]], radii=1e-300), "radius 1e-300 of body 0 is too small"),
+    "box upside down": (dict(positions=[[1, 1]], box=(0, 0, -1, 1)), r"box must have xmax > xmin.*\[0.0, 0.0, -1.0"),
+    "NaN velocity": (dict(positions=[[1, 1]], velocities=[[np.nan, 0]]), "velocities contains NaN or inf"),
+    "segments of three numbers": (dict(positions=[[1, 1]], segments=[[0, 0, 1]]), r"segments must have shape \(m, 4\)"),
+}
+
+
+@pytest.mark.parametrize("case", BAD_WORLDS)
+def test_bad_world_is_one_clear_line(case):
+    kwargs, message = BAD_WORLDS[case]
+    with pytest.raises(ValueError, match=message) as error:
+        collisim.World(**kwargs)
+    text = str(error.value)
+    assert "\n" not in text and "np.float64" not in text and "array(" not in text
+
+
+def test_touching_bodies_and_segments_are_allowed():
+    r = 0.5
+    angle = 0.7   # touching along a diagonal, as arithmetic places them (rounding included)
+    second = [2.0 + 2 * r * np.cos(angle), 2.0 + 2 * r * np.sin(angle)]
+    world = collisim.World([[2.0, 2.0], second, [5.0, 5.5]], radii=r, segments=[[0, 5, 10, 5]])
+    assert world.n == 3
+
+
+BAD_SCENES = {
+    "fps as text": (dict(fps="60"), "fps must be a number, got '60'"),
+    "fps zero": (dict(fps=0), "fps must be a finite number > 0"),
+    "seconds NaN": (dict(seconds=float("nan")), "seconds must be a finite number > 0"),
+    "substeps fractional": (dict(substeps=2.5), "substeps must be a whole number >= 1, got 2.5"),
+    "unknown method": (dict(method="verlet"), "unknown method 'verlet'; choose one of: discrete, ccd"),
+}
+
+
+@pytest.mark.parametrize("case", BAD_SCENES)
+def test_bad_scene_is_one_clear_line(case):
+    kwargs, message = BAD_SCENES[case]
+    with pytest.raises(ValueError, match=message):
+        collisim.Scene(world=collisim.World([[1, 1]]), **kwargs)
+
+
+def test_a_duration_that_is_not_a_whole_number_of_frames_is_rounded_and_said():
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        scene = collisim.Scene(world=collisim.World([[1, 1]]), fps=60, seconds=1.01)
+        exact = collisim.Scene(world=collisim.World([[1, 1]]), fps=60, seconds=2.0)
+    assert scene.frames == 61 and exact.frames == 120
+    assert [str(w.message) for w in caught] == ["1.01 s at 60 fps is 60.6 frames; using 61 frames (1.01667 s)"]
