@@ -106,3 +106,21 @@ def test_wall_impulses_give_the_exact_pressure_of_a_single_particle():
     hits = traj.events.kind == 0
     np.testing.assert_allclose(traj.events.impulse[hits], 2 * np.pi * 0.25 * 7.0, rtol=1e-12)
     assert hits.sum() == pytest.approx(7.0 * 10 / 9.0, abs=1)
+
+
+@pytest.mark.parametrize("speed, radius", [(1e13, 1.0), (50.0, 5.0 - 5e-13)])
+def test_elastic_wall_response_is_bounded_at_any_speed_and_gap(speed, radius):
+    # 1e13 units/s crosses the box 1e11 times a frame; a radius leaving a 1e-12 gap bounces 1e13 times:
+    # the free elastic flight is folded in O(1), exactly in the box, energy exact
+    world = collisim.World([[5.0, 5.0]], velocities=[[speed, 0.3 * speed]], radii=radius)
+    traj = collisim.simulate(collisim.Scene(world=world, fps=60, seconds=0.5))
+    p, r = traj.positions[:, 0], radius
+    assert np.all((p - r >= -1e-9) & (p + r <= 10 + 1e-9))
+    np.testing.assert_array_equal(np.abs(traj.velocities[-1, 0]), [speed, 0.3 * speed])
+    assert traj.wall_collisions.sum() > 1e6
+
+
+def test_a_speed_the_frame_rate_cannot_represent_is_one_clear_error():
+    world = collisim.World([[5.0, 5.0]], velocities=[[0.0, 1e13]], radii=1.0, gravity=(0, -9.8))
+    with pytest.raises(ValueError, match="would cross the box more than 10 000 times in one step"):
+        collisim.simulate(collisim.Scene(world=world, fps=60, seconds=0.1))

@@ -1,23 +1,28 @@
-"""The `collisim` command: list scenes, render them, compare methods, run the benchmarks.
+"""The `collisim` command: list scenes, render them, compare methods, run the benchmarks and sweeps.
 
 Bad input gives one line on stderr and exit status 2; never a traceback, never a partial file.
+Ctrl-C, SIGTERM and SIGHUP end a command alike: temporaries removed, one line, status 128 + signal.
 """
 from __future__ import annotations
 
 import argparse
 import os
+import signal
 import sys
+import threading
 import time
 import warnings
+from contextlib import contextmanager
 from pathlib import Path
 
+from . import __version__
+from .analysis.sweep.cli import add_sweep_parser, cmd_sweep
 from .broadphase import NAMES as BROAD_PHASES
 from .engine import METHODS
 from .engine.profile import profile_table
-from .io.writers import WRITERS
-from .model.scene import RenderSettings
-from .model.scene import QUALITY_SIZES
+from .io.formats import FORMATS
 from .model.scenefile import available_scenes, describe_scene_file, load_scene
+from .render.video import QUALITIES, THEMES
 
 
 class OneLineParser(argparse.ArgumentParser):
@@ -37,28 +42,13 @@ def parse_size(text: str) -> tuple:
 
 def build_parser() -> argparse.ArgumentParser:
     parser = OneLineParser(prog="collisim", description="Render collision simulations to video.")
+    parser.add_argument("--version", action="version", version=f"collisim {__version__}")
     commands = parser.add_subparsers(dest="command", required=True, parser_class=OneLineParser)
     commands.add_parser("list", help="list the scenes with a one-line description")
-    render = commands.add_parser("render", help="render a scene to MP4 (or one frame to PNG)")
-    render.add_argument("scene", help="scene name (e.g. single_bounce), path to a scene file, or a saved "
-                                      "trajectory (.npz)")
-    render.add_argument("--out", type=Path, help="output file (default renders/<scene>.mp4)")
-    render.add_argument("--fps", type=float, help="frames per second of the video")
-    render.add_argument("--seconds", type=float, help="duration")
-    render.add_argument("--size", type=parse_size, help="frame size WxH (default: the scene's, by quality)")
-    render.add_argument("--quality", choices=tuple(QUALITY_SIZES), default="m",
-                        help="l 480p / m 720p / h 1080p, with matching encoder quality")
-    render.add_argument("--codec", choices=tuple(WRITERS), default="h264")
-    render.add_argument("--png", type=int, metavar="FRAME", help="write frame FRAME as PNG instead of a video")
-    render.add_argument("--method", choices=tuple(METHODS))
-    render.add_argument("--substeps", type=int, help="discrete steps per frame")
-    render.add_argument("--broadphase", choices=BROAD_PHASES, help="broad phase")
-    render.add_argument("--restitution", type=float, help="coefficient of restitution e in [0, 1]")
-    render.add_argument("--profile", action="store_true", help="print time per phase at the end")
-    render.add_argument("--no-progress", action="store_true", help="no progress bar")
-    render.add_argument("--save-trajectory", type=Path, metavar="PATH",
-                        help="also write the simulated trajectory to PATH (.npz) (scenes of one world)")
+    render = commands.add_parser("render", help="render a scene to a video, a PNG sequence or one PNG frame")
+    add_render_options(render)
     add_bench_parser(commands)
+    add_sweep_parser(commands)
     compare = commands.add_parser("compare", help="run collisim's methods and pymunk on one scene, one table")
     compare.add_argument("scene", help="scene name or path")
     compare.add_argument("--methods", nargs="+", help="labels such as 'discrete x1' 'discrete x8' ccd 'pymunk x1'")
@@ -67,6 +57,38 @@ def build_parser() -> argparse.ArgumentParser:
     compare.add_argument("--video", type=Path, metavar="PATH",
                          help="also render the compared runs side by side, titled, to PATH")
     return parser
+
+
+def add_render_options(render) -> None:
+    render.add_argument("scene", help="scene name (e.g. single_bounce), path to a scene file, or a saved "
+                                      "trajectory (.npz)")
+    render.add_argument("--out", help="a file (.mp4 .webm .gif .mov), DIR/ for DIR/<scene>.<ext>, or with "
+                                      "--format png the sequence's folder (default renders/<scene>/<quality>.<ext>)")
+    render.add_argument("--format", choices=tuple(FORMATS), help="mp4 (default), webm, gif, mov, or png (a "
+                                                                 "sequence); else the extension of --out")
+    render.add_argument("--fps", type=float, help="frame rate of the video (the simulation keeps its own step)")
+    render.add_argument("--physics-fps", type=float, metavar="N", help="simulation steps per second")
+    render.add_argument("--seconds", type=float, help="duration")
+    render.add_argument("--size", type=parse_size, help="frame size WxH (default: the scene's, by quality)")
+    render.add_argument("-q", "--quality", choices=tuple(QUALITIES),
+                        help="-ql 480p15, -qm 720p30, -qh 1080p60, -qk 2160p60: size, video fps and "
+                             "encoder quality (default: the scene's size and fps)")
+    render.add_argument("--codec", choices=FORMATS["mp4"].codecs, help="mp4 only: h264 (default) or mp4v")
+    render.add_argument("--transparent", action="store_true", help="background alpha 0 (webm, mov, png)")
+    render.add_argument("--background", metavar="#RRGGBB", help="background colour")
+    render.add_argument("--theme", choices=tuple(THEMES), default="dark", help="colour theme (default dark)")
+    render.add_argument("-s", "--last-frame", action="store_true", help="write the last frame as PNG")
+    render.add_argument("--png", type=int, metavar="FRAME", help="write frame FRAME as PNG instead of a video")
+    render.add_argument("--no-limits", action="store_true",
+                        help="allow frames over 7680x4320 and videos over 100000 frames")
+    render.add_argument("--method", choices=tuple(METHODS))
+    render.add_argument("--substeps", type=int, help="discrete steps per frame")
+    render.add_argument("--broadphase", choices=BROAD_PHASES, help="broad phase")
+    render.add_argument("--restitution", type=float, help="coefficient of restitution e in [0, 1]")
+    render.add_argument("--profile", action="store_true", help="print time per phase at the end")
+    render.add_argument("--no-progress", action="store_true", help="no progress bar")
+    render.add_argument("--save-trajectory", type=Path, metavar="PATH",
+                        help="also write the simulated trajectory to PATH (.npz) (scenes of one world)")
 
 
 def add_bench_parser(commands) -> None:
@@ -104,32 +126,81 @@ def cmd_list(args) -> int:
     return 0
 
 
-def cmd_render(args) -> int:
-    from .model.trajectory import load_trajectory
-    from .pipeline import render
-    from .render.video import output_size
+def note(message: str) -> None:
+    print(f"collisim: note: {message}", file=sys.stderr, flush=True)
 
+
+PHYSICS_FLAGS = {"method": "--method", "substeps": "--substeps", "broadphase": "--broadphase",
+                 "restitution": "--restitution", "physics_fps": "--physics-fps"}
+
+
+def render_source(args):
+    """(source, name, fps): the scene with the command line's physics applied, or the saved
+    trajectory, and its own frame rate before --physics-fps; a note names the physics flags a
+    source ignores."""
+    from .model.trajectory import load_trajectory
+    given = [flag for key, flag in PHYSICS_FLAGS.items() if getattr(args, key) is not None]
     if str(args.scene).endswith(".npz"):
         source = load_trajectory(args.scene)
-        name, fps, frames, base = Path(args.scene).stem, source.fps, source.frames, RenderSettings().size
+        if given:
+            note(f"a saved trajectory plays as it was simulated; ignoring {', '.join(given)}")
+        return source, Path(args.scene).stem, source.fps
+    scene = load_scene(args.scene)
+    if scene.world is None:  # panels or chapters: their own physics is what they show
+        if given:
+            kind = "panels" if scene.panels else "chapters"
+            note(f"{scene.name} is made of {kind} that keep their own physics (they exist to compare "
+                 f"settings); ignoring {', '.join(given)}")
+        return scene.with_options(seconds=args.seconds), scene.name, scene.fps
+    return scene.with_options(fps=args.physics_fps, seconds=args.seconds, method=args.method,
+                              substeps=args.substeps, broadphase=args.broadphase,
+                              restitution=args.restitution), scene.name, scene.fps
+
+
+def default_out(job, args) -> str:
+    """renders/<scene>/<quality>.<ext>: the quality as manim names it (480p15, 720p30, 1080p60,
+    2160p60, or height p fps), or WxH for --size; a PNG sequence is the folder without extension."""
+    if args.last_frame or args.png is not None:
+        extension = ".png"
     else:
-        source = load_scene(args.scene).with_options(
-            fps=args.fps, seconds=args.seconds, method=args.method, substeps=args.substeps,
-            broadphase=args.broadphase, restitution=args.restitution)
-        name, fps, frames, base = source.name, source.fps, source.frames, source.render.size
-    suffix = ".png" if args.png is not None else ".mp4"
-    out = args.out or Path("renders") / f"{name}{suffix}"
-    profile = {} if args.profile else None
-    width, height = output_size(base, args.size, args.quality)
+        extension = FORMATS[args.format or "mp4"].extension
+    return str(Path("renders") / job.name / f"{job.label}{extension}")
+
+
+def cmd_render(args) -> int:
+    from .model.scene import RenderSettings, Scene
+    from .pipeline import output_for, plan, render
+    from .render.video import Progress
+
     start = time.perf_counter()
-    settings = None
-    if args.save_trajectory is not None:  # simulate once: save the run, then play it
-        source, settings = _saved_trajectory(source, args.save_trajectory), source.render
-    path = render(source, out, (width, height), settings=settings, codec=args.codec, quality=args.quality,
-                  png_frame=args.png, progress=not args.no_progress, profile=profile)
+    source, name, own_fps = render_source(args)
+    settings = None if isinstance(source, Scene) else RenderSettings()
+    fps = args.fps
+    if fps is None and args.quality is None:
+        fps = own_fps   # the scene's video rate, even when --physics-fps changed its step
+    job = plan(source, args.size, fps=fps, quality=args.quality, settings=settings, name=name,
+               limits=not args.no_limits)
+    out = output_for(job, args.out if args.out is not None else default_out(job, args), format=args.format,
+                     codec=args.codec, transparent=args.transparent, background=args.background, theme=args.theme,
+                     png_frame=args.png, last_frame=args.last_frame)
+    profile = {} if args.profile else None
+    with Progress(bar=not args.no_progress) as progress:
+        if args.save_trajectory is not None:  # simulate once: save the run, then play it
+            trajectory = _saved_trajectory(source, args.save_trajectory)
+            job = plan(trajectory, job.size, fps=job.fps, settings=source.render, name=name, limits=False)
+        path = render(job, out.path, format=out.format, codec=out.codec, transparent=out.transparent,
+                      background=args.background, theme=args.theme, png_frame=out.frame, quality=args.quality,
+                      progress=progress,
+                      profile=profile)
     seconds = time.perf_counter() - start
-    what = f"frame {args.png}" if args.png is not None else f"{frames} frames at {fps:g} fps, {args.codec}"
-    print(f"{path}: {what}, {width}x{height}, {seconds:.1f} s")
+    if out.frame is not None:
+        what = f"frame {out.frame}"
+    elif out.format == "png":
+        what = f"{job.frames} PNG frames at {job.fps:g} fps"
+    else:
+        what = f"{job.frames} frames at {job.fps:g} fps, {out.format} ({out.codec})"
+    compiling = f" ({progress.compile_seconds:.1f} s compiling)" if progress.compiled else ""
+    print(f"{path}: {what}, {job.size[0]}x{job.size[1]}, {seconds:.1f} s{compiling}")
     if profile:
         print(profile_table(profile))
     return 0
@@ -227,24 +298,71 @@ def cmd_compare(args) -> int:
     return 0
 
 
-COMMANDS = {"list": cmd_list, "render": cmd_render, "bench": cmd_bench, "compare": cmd_compare}
+COMMANDS = {"list": cmd_list, "render": cmd_render, "bench": cmd_bench, "compare": cmd_compare, "sweep": cmd_sweep}
+
+
+class Interrupted(KeyboardInterrupt):
+    """A signal that ends the command like Ctrl-C: every output's temporary is removed on the way
+    out (a KeyboardInterrupt, so nothing that catches Exception swallows it)."""
+
+    def __init__(self, signum: int):
+        super().__init__(signal.Signals(signum).name)
+        self.signum = signum
+
+
+STOP_SIGNALS = tuple(getattr(signal, name) for name in ("SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, name))
+
+
+@contextmanager
+def signals_interrupt():
+    """While open, SIGINT, SIGTERM and SIGHUP raise Interrupted in the main thread; once one has,
+    further ones are ignored so that the clean-up runs to its end."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    fired = []
+
+    def stop(signum, frame):
+        if not fired:
+            fired.append(signum)
+            raise Interrupted(signum)
+
+    previous = {number: signal.signal(number, stop) for number in STOP_SIGNALS}
+    try:
+        yield
+    finally:
+        for number, handler in previous.items():
+            signal.signal(number, handler)
+
+
+def say(line: str) -> None:
+    """A last line on stderr, which may be gone (a closed terminal after SIGHUP)."""
+    try:
+        print(line, file=sys.stderr, flush=True)
+    except (OSError, ValueError):
+        pass
+
+
+def show_note(message, category, filename, lineno, file=None, line=None) -> None:
+    """A warning, as one line on stderr when it happens (before the bar, or clearing it)."""
+    say(f"collisim: note: {message}")
 
 
 def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
-    with warnings.catch_warnings(record=True) as caught:
+    with warnings.catch_warnings(), signals_interrupt():
         warnings.simplefilter("always")
+        warnings.showwarning = show_note
         try:
             status = COMMANDS[args.command](args)
         except ValueError as error:
-            print(f"collisim: error: {error}", file=sys.stderr)
+            say(f"collisim: error: {error}")
             status = 2
-        except KeyboardInterrupt:
-            print("collisim: interrupted; no file written", file=sys.stderr)
-            status = 130
+        except KeyboardInterrupt as interrupt:
+            signum = getattr(interrupt, "signum", signal.SIGINT)
+            say(f"collisim: interrupted ({signal.Signals(signum).name}); no file written")
+            status = 128 + signum
         except BrokenPipeError:  # the reader (e.g. `head`) stopped reading: stop quietly
             os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
             status = 0
-        for warning in caught:
-            print(f"collisim: note: {warning.message}", file=sys.stderr)
     return status

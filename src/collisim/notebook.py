@@ -101,14 +101,10 @@ def first_seconds(traj, seconds: float):
     """The Trajectory cut to its samples at times <= seconds (at least one frame), with the
     events of that span. A trajectory shorter than `seconds` is returned whole."""
     from .model.trajectory import _FRAME_FIELDS
+    from .model.validate import number
 
-    try:
-        ok = 0 < float(seconds) < float("inf")
-    except (TypeError, ValueError):
-        ok = False
-    if not ok:
-        raise ValueError(f"seconds must be a finite number > 0, got {seconds}")
-    frames = max(1, int(round(float(seconds) * traj.fps)))
+    seconds = number("seconds", seconds, positive=True)
+    frames = max(1, int(round(seconds * traj.fps)))
     if frames >= traj.frames:
         return traj
     cut = {name: getattr(traj, name)[:frames + 1] for name in _FRAME_FIELDS}

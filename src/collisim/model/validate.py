@@ -49,36 +49,29 @@ def per_body(name: str, value, n: int, columns: int | None = None) -> np.ndarray
 
 def positions_array(value) -> np.ndarray:
     """Centres (n, 2); [] for no bodies. One body is [[x, y]], never [x, y]."""
-    try:
-        array = np.array(value, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise ValueError(f"positions must be numbers, got {_short(value)}") from None
-    if array.size == 0:
-        return np.zeros((0, 2))
-    if array.ndim != 2 or array.shape[1] != 2:
-        hint = " (one body is written [[x, y]])" if array.shape == (2,) else ""
-        raise ValueError(f"positions must have shape (n, 2), got shape {array.shape}{hint}")
-    if not np.all(np.isfinite(array)):
-        raise ValueError("positions contains NaN or inf")
-    return array
+    return _rows("positions", value, 2, "(n, 2)", hint=" (one body is written [[x, y]])")
 
 
 def segments_array(value) -> np.ndarray:
-    """Segments (m, 4) rows x0, y0, x1, y1; None or [] for none."""
-    if value is None:
-        return np.zeros((0, 4))
+    """Segments (m, 4) rows x0, y0, x1, y1; None or [] for none; one row may be written flat."""
+    return _rows("segments", [] if value is None else value, 4, "(m, 4) rows x0, y0, x1, y1", flat_row=True)
+
+
+def _rows(name: str, value, columns: int, shape_text: str, hint: str = "", flat_row: bool = False) -> np.ndarray:
+    """A finite (k, columns) float64 array, or ValueError naming `name`."""
     try:
         array = np.array(value, dtype=np.float64)
     except (TypeError, ValueError):
-        raise ValueError(f"segments must be numbers, got {_short(value)}") from None
+        raise ValueError(f"{name} must be numbers, got {_short(value)}") from None
     if array.size == 0:
-        return np.zeros((0, 4))
-    if array.ndim == 1 and array.shape == (4,):
+        return np.zeros((0, columns))
+    if flat_row and array.shape == (columns,):
         array = array[None]
-    if array.ndim != 2 or array.shape[1] != 4:
-        raise ValueError(f"segments must have shape (m, 4) rows x0, y0, x1, y1, got shape {array.shape}")
+    if array.ndim != 2 or array.shape[1] != columns:
+        extra = hint if array.shape == (columns,) else ""
+        raise ValueError(f"{name} must have shape {shape_text}, got shape {array.shape}{extra}")
     if not np.all(np.isfinite(array)):
-        raise ValueError("segments contains NaN or inf")
+        raise ValueError(f"{name} contains NaN or inf")
     return array
 
 

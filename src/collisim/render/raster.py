@@ -20,6 +20,11 @@ def bgr(rgb) -> tuple:
     return (b, g, r)
 
 
+def _or(color_rgb, default_rgb) -> tuple:
+    """A colour given, else the active theme's (palette.py), read at draw time."""
+    return default_rgb if color_rgb is None else color_rgb
+
+
 def fixed(values) -> np.ndarray:
     """Pixel coordinates -> cv2 fixed point for `shift=SHIFT`."""
     return np.rint(np.asarray(values) * ONE).astype(np.int64)
@@ -44,19 +49,20 @@ def draw_rings(canvas, centres_px, radii_px, color_rgb, thickness: int = 2) -> N
         cv2.circle(canvas, (x, y), r, color, thickness, cv2.LINE_AA, SHIFT)
 
 
-def draw_box(canvas, view, box, color_rgb=palette.BOX, thickness: int = 2) -> None:
+def draw_box(canvas, view, box, color_rgb=None, thickness: int = 2) -> None:
     xmin, ymin, xmax, ymax = box
     corners = view.to_pixels([[xmin, ymax], [xmax, ymin]])
     (x0, y0), (x1, y1) = fixed(corners).tolist()
-    cv2.rectangle(canvas, (x0, y0), (x1, y1), bgr(color_rgb), thickness, cv2.LINE_AA, SHIFT)
+    cv2.rectangle(canvas, (x0, y0), (x1, y1), bgr(_or(color_rgb, palette.BOX)), thickness, cv2.LINE_AA, SHIFT)
 
 
-def draw_segments(canvas, view, segments, color_rgb=palette.BOX, thickness: int = 3) -> None:
+def draw_segments(canvas, view, segments, color_rgb=None, thickness: int = 3) -> None:
     """segments: (m, 4) world x0, y0, x1, y1."""
     if len(segments) == 0:
         return
     ends = fixed(view.to_pixels(np.asarray(segments).reshape(-1, 2, 2)))
-    cv2.polylines(canvas, list(ends.astype(np.int32)), False, bgr(color_rgb), thickness, cv2.LINE_AA, SHIFT)
+    cv2.polylines(canvas, list(ends.astype(np.int32)), False, bgr(_or(color_rgb, palette.BOX)), thickness,
+                  cv2.LINE_AA, SHIFT)
 
 
 def draw_trails(canvas, view, history, colors_rgb) -> None:
@@ -72,16 +78,16 @@ def draw_trails(canvas, view, history, colors_rgb) -> None:
         cv2.polylines(canvas, list(paths[same]), False, bgr(dim), 1, cv2.LINE_AA, SHIFT)
 
 
-def draw_arrows(canvas, view, positions, velocities, seconds: float, color_rgb=palette.TEXT) -> None:
+def draw_arrows(canvas, view, positions, velocities, seconds: float, color_rgb=None) -> None:
     """Velocity arrows from each centre to where it would be `seconds` later."""
     starts = view.to_pixels(positions)
     ends = view.to_pixels(positions + velocities * seconds)
-    color = bgr(color_rgb)
+    color = bgr(_or(color_rgb, palette.TEXT))
     for (x0, y0), (x1, y1) in zip(fixed(starts).tolist(), fixed(ends).tolist()):
         cv2.arrowedLine(canvas, (x0, y0), (x1, y1), color, 2, cv2.LINE_AA, SHIFT, 0.2)
 
 
-def draw_text(canvas, text: str, origin, scale: float = 0.55, color_rgb=palette.TEXT,
+def draw_text(canvas, text: str, origin, scale: float = 0.55, color_rgb=None,
               thickness: int = 1, anchor: str = "left") -> None:
     """Text whose baseline starts at origin (pixels); anchor 'center' centres it on origin, 'right' ends it there."""
     font = cv2.FONT_HERSHEY_SIMPLEX
@@ -89,7 +95,8 @@ def draw_text(canvas, text: str, origin, scale: float = 0.55, color_rgb=palette.
     if anchor in ("center", "right"):
         (width, _), _ = cv2.getTextSize(text, font, scale, thickness)
         x -= width // 2 if anchor == "center" else width
-    cv2.putText(canvas, text, (int(x), int(y)), font, scale, bgr(color_rgb), thickness, cv2.LINE_AA)
+    cv2.putText(canvas, text, (int(x), int(y)), font, scale, bgr(_or(color_rgb, palette.TEXT)), thickness,
+                cv2.LINE_AA)
 
 
 def draw_lines(canvas, view, starts, ends, color_rgb, thickness: int = 1) -> None:

@@ -24,6 +24,9 @@ import math
 from numba import njit
 
 from ..geometry.box import centre_range
+
+FOLD_AFTER = 64        # reflections in one step before an elastic free flight is folded in O(1)
+MAX_BOUNCES = 10_000   # reflections in one step beyond which the speed is an error (see above)
 from ..narrowphase.statics import circle_segment
 
 
@@ -43,17 +46,47 @@ def _reflect(overshoot, speed_in, pull, restitution):
 
 
 @njit(cache=True, error_model="numpy")
+def _fold(x, v, low, high):
+    """Free elastic flight between two walls, x past one of them, in O(1) however far: the
+    reflections unfold into a straight line of period 2·(high - low). Returns (x, v, bounces
+    off low, bounces off high)."""
+    span = high - low
+    over = x - high if x > high else low - x        # beyond the wall it is heading for
+    k = 1 + int(math.floor(over / span))            # reflections needed
+    rest = over - (k - 1) * span                     # in (0, span]: distance back inside after the last
+    first_high = x > high
+    toward_high_after = (k % 2 == 0) == first_high  # an even count ends moving as it started
+    x = (low + rest) if toward_high_after else (high - rest)
+    v = abs(v) if toward_high_after else -abs(v)
+    half, odd = k // 2, k % 2
+    return (x, v, half + (odd if not first_high else 0), half + (odd if first_high else 0))
+
+
+@njit(cache=True, error_model="numpy")
 def bounce_between_walls(positions, velocities, accelerations, radii, masses, box, restitution, i, axis):
     """Bring body i, whose centre is past a wall on `axis`, back inside, in place.
 
     Returns (bounces off the low wall, off the high wall, impulse on each): several bounces
-    off one wall in one step carry their summed impulse."""
+    off one wall in one step carry their summed impulse. The work is bounded whatever the
+    speed: an elastic body in free flight that would bounce more than FOLD_AFTER times is
+    folded back in one step (_fold); any other past MAX_BOUNCES is a speed this frame rate
+    cannot represent, and one clear error."""
     low, high = centre_range(box, axis, radii[i])
     x, v, a = positions[i, axis], velocities[i, axis], accelerations[i, axis]
     bounces_low, bounces_high, impulse_low, impulse_high = 0, 0, 0.0, 0.0
     if high <= low:  # the body exactly fits: it can only sit in the middle
         x, v = 0.5 * (low + high), 0.0
     while x < low or x > high:
+        if bounces_low + bounces_high >= FOLD_AFTER and restitution == 1.0 and a == 0.0:
+            speed = abs(v)
+            x, v, more_low, more_high = _fold(x, v, low, high)
+            impulse_low += 2.0 * masses[i] * speed * more_low
+            impulse_high += 2.0 * masses[i] * speed * more_high
+            bounces_low, bounces_high = bounces_low + more_low, bounces_high + more_high
+            break
+        if bounces_low + bounces_high >= MAX_BOUNCES:
+            raise ValueError("a body would cross the box more than 10 000 times in one step: its speed "
+                             "cannot be represented at this frame rate; use more substeps or a lower speed")
         if x < low and v < 0.0:
             inside, speed, dv = _reflect(low - x, -v, -a, restitution)
             x, v = low + inside, speed

@@ -99,19 +99,24 @@ def gas(packing: float, speed: float, name: str, n: int = N, seed: int = SEED) -
     return _scene(world, name, f"{n} particles, packing {packing:g}, {speed:g} radii per frame")
 
 
-def slow_gas(packing: float = SPARSE_PACKING) -> Scene:
+# The keyword arguments (defaults: the benchmark's settings) let `collisim sweep` vary them.
+
+def slow_gas(packing: float = SPARSE_PACKING, n: int = N, seed: int = SEED,
+             speed: float = SLOW_RADII_PER_FRAME) -> Scene:
     """Sparse slow gas: 250 particles moving ~0.2 radii per frame."""
-    return gas(packing, SLOW_RADII_PER_FRAME, "slow_gas")
+    return gas(packing, speed, "slow_gas", n, seed)
 
 
-def dense_gas() -> Scene:
+def dense_gas(packing: float = DENSE_PACKING, n: int = N, seed: int = SEED,
+              speed: float = SLOW_RADII_PER_FRAME) -> Scene:
     """Dense gas: packing fraction 0.3, ~0.2 radii per frame."""
-    return gas(DENSE_PACKING, SLOW_RADII_PER_FRAME, "dense_gas")
+    return gas(packing, speed, "dense_gas", n, seed)
 
 
-def fast_gas() -> Scene:
+def fast_gas(packing: float = SPARSE_PACKING, n: int = N, seed: int = SEED,
+             speed: float = FAST_RADII_PER_FRAME) -> Scene:
     """Fast sparse gas: packing 0.05, ~2 radii per frame."""
-    return gas(SPARSE_PACKING, FAST_RADII_PER_FRAME, "fast_gas")
+    return gas(packing, speed, "fast_gas", n, seed)
 
 
 def gravity_bounce(count: int = DROPS, seed: int = SEED) -> Scene:
