@@ -18,7 +18,7 @@ OPTIONS = {"kdtree": {"leaf_size": 1}, "bvh": {"leaf_size": 1}}
 
 def six_particles():
     # as in the video, two pairs start with overlapping boxes (but apart): pink-orange and red-yellow
-    positions = np.array([[1.8, 4.2], [3.2, 3.1], [5.0, 1.8], [6.6, 4.3], [7.9, 3.3], [8.3, 1.6]])
+    positions = np.array([[1.8, 4.2], [3.2, 3.1], [5.0, 1.8], [6.6, 4.3], [8.0, 3.25], [8.4, 1.4]])
     velocities = np.array([[0.3, -0.2], [-0.2, 0.25], [0.3, 0.3], [-0.25, -0.15], [0.2, 0.25], [-0.3, 0.2]])
     radii = np.array([0.8, 0.75, 0.85, 0.75, 0.85, 0.8])
     return positions, velocities, radii
