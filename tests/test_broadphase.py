@@ -9,10 +9,10 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from collisim.broadphase import NAMES, describe, find_pairs, make
+from collisim.broadphase import PROTOCOL, describe, find_pairs, make
 
 
-@pytest.fixture(scope="module", params=NAMES)
+@pytest.fixture(scope="module", params=PROTOCOL)
 def method(request):
     return request.param
 
@@ -93,6 +93,7 @@ OPTIONS = {
     "grid": st.one_of(st.just({}), st.builds(dict, cell_size=st.floats(0.5, 50))),
     "kdtree": st.builds(dict, leaf_size=st.integers(1, 6), max_depth=st.integers(0, 12)),
     "bvh": st.builds(dict, leaf_size=st.integers(1, 6)),
+    "cells": st.just({}),
 }
 
 

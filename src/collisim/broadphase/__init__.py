@@ -33,16 +33,20 @@ import numpy as np
 from ._common import BroadPhase
 from .brute import BruteForce
 from .bvh import BoundingVolumeHierarchy
+from .cell_list import CellList
 from .grid import UniformGrid
 from .kdtree import KDTree
 from .sweep_prune import SweepAndPrune
 
-__all__ = ["NAMES", "BroadPhase", "describe", "find_pairs", "make", "query", "raycast"]
+__all__ = ["NAMES", "PROTOCOL", "BroadPhase", "describe", "find_pairs", "make", "query", "raycast"]
 
 NAMES = ("brute", "sweep_prune", "grid", "kdtree", "bvh")
+# Every structure that answers the protocol: the five, and ccd's cell lists (cell_list.py),
+# which the discrete step does not use.
+PROTOCOL = NAMES + ("cells",)
 
 _CLASSES = {cls.name: cls for cls in (BruteForce, SweepAndPrune, UniformGrid, KDTree,
-                                       BoundingVolumeHierarchy)}
+                                       BoundingVolumeHierarchy, CellList)}
 
 
 def make(name: str, **options) -> BroadPhase:
@@ -52,7 +56,7 @@ def make(name: str, **options) -> BroadPhase:
     bvh: ``leaf_size``. Raises ValueError for an unknown name or option.
     """
     if name not in _CLASSES:
-        raise ValueError(f"unknown broad phase {name!r}; choose one of: {', '.join(NAMES)}")
+        raise ValueError(f"unknown broad phase {name!r}; choose one of: {', '.join(PROTOCOL)}")
     cls = _CLASSES[name]
     unknown = sorted(set(options) - set(cls.OPTIONS))
     if unknown:

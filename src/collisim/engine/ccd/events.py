@@ -56,7 +56,7 @@ from ..eventlog import append, new_log, with_room
 from .bodies import FREE, Bodies, Environment, advance, position_at, release, velocity_at
 from .eventqueue import CELL, is_current, key_parts, new_queue, pop, reserve
 from .fallback import finish_frame_discretely
-from .grid import assign_all, link, make_grid, unlink
+from ...broadphase.cells import assign_all, link, make_grid, unlink
 from .predict import predict_pairs, predict_solo
 from .resolve import (add_pair_contact, add_segment_contact, add_wall_contact, new_contacts, settle_resting,
                       solve_contacts)

@@ -22,7 +22,7 @@ from ...geometry.circle import line_of_centres
 from ...geometry.segment import segment_contact
 from ...response.impulse import apply_normal_impulse, push_apart
 from .bodies import advance, release
-from .grid import assign_all, neighbour_block
+from ...broadphase.cells import assign_all, neighbour_block
 
 PROJECTION_PASSES = 4
 

@@ -18,7 +18,7 @@ from ...geometry.toi import time_to_point, time_to_segment, time_to_wall
 from ...model.kinds import N_WALLS, PAIR, SEGMENT, WALL
 from .bodies import FREE, position_at, rests_on, velocity_at
 from .eventqueue import CELL, SLIDE_OFF, event_key, push
-from .grid import cell_bounds, neighbour_block
+from ...broadphase.cells import cell_bounds, neighbour_block
 
 
 @njit(cache=True, error_model="numpy")

@@ -22,8 +22,8 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-from ...geometry.segment import segment_meets_rect
-from ...statics.segment_index import build_segment_index, segments_near
+from ..geometry.segment import segment_meets_rect
+from ..statics.segment_index import build_segment_index, segments_near
 
 CellGrid = namedtuple("CellGrid", ["x0", "y0", "cell_w", "cell_h", "nx", "ny", "cell", "head", "next", "prev",
                                    "segment_start", "segment_index"])
