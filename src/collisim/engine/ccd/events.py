@@ -45,6 +45,7 @@ plain numbers (eventqueue._before), allocate nothing (grid.neighbour_block), and
 call the segment test, whose quartics allocate, only where there are segments
 (predict.predict_solo).
 """
+from collections import namedtuple
 from typing import NamedTuple
 
 import numpy as np
@@ -192,46 +193,70 @@ def sample(bodies, t, positions, velocities):
         velocities[i, 0], velocities[i, 1] = velocity_at(bodies, i, t)
 
 
-@njit(cache=True, error_model="numpy")
-def run(bodies, grid, env, frame_dt, n_frames, budget, positions, velocities, counts, over_budget):
-    """The event loop. Fills positions, velocities (F, n, 2), counts (F, 3) per kind and
-    over_budget (F,); returns the EventLog of collisions in processing order."""
-    n = bodies.radius.shape[0]
-    base = max(n, env.segments.shape[0], N_WALLS) + 1
-    t_end = n_frames * frame_dt
-    done, listed, involved = np.zeros(n, np.bool_), np.zeros(n, np.bool_), np.empty(n, np.int64)
-    contacts = new_contacts(4 * n + 16)
+EventLoop = namedtuple("EventLoop", ["bodies", "grid", "env", "queue", "contacts", "done", "listed", "involved",
+                                     "base", "t_end"])
+EventLoop.__doc__ = """Everything the event loop keeps from one block of frames to the next, so that a run
+streamed in blocks of any size is the same run: bodies, grid, env; the event queue; scratch
+(contacts, done, listed, involved); base (event key packing); t_end (the run's end: nothing
+later is predicted)."""
+
+
+def start_event_loop(positions, velocities, gravity, radii, masses, box, restitution, segments, t_end) -> EventLoop:
+    """A loop at t = 0 with every event up to t_end predicted (inputs checked and copied)."""
+    positions, velocities, gravity, radii, masses, box, segments = _checked_inputs(
+        positions, velocities, gravity, radii, masses, box, segments)
+    if not 0.0 <= restitution <= 1.0:
+        raise ValueError("need 0 <= restitution <= 1")
+    n = len(positions)
+    bodies = Bodies(positions, velocities, np.tile(gravity, (n, 1)), np.zeros(n), radii, masses,
+                    np.full(n, FREE, np.int64), np.full(n, FREE, np.int64), np.zeros((n, 2)), np.zeros(n, np.int64),
+                    np.zeros(n))
+    env = Environment(box, segments, gravity, float(restitution))
+    grid = make_grid(box, radii, segments)
+    base = max(n, len(segments), N_WALLS) + 1
+    done = np.zeros(n, np.bool_)
     queue = schedule_all(bodies, grid, env, new_queue(16 * (n + 1)), 0.0, t_end, base, done)
+    return EventLoop(bodies, grid, env, queue, new_contacts(4 * n + 16), done, np.zeros(n, np.bool_),
+                     np.empty(n, np.int64), base, float(t_end))
+
+
+@njit(cache=True, error_model="numpy")
+def run(loop, frame_dt, first, count, budget, positions, velocities, counts, over_budget):
+    """Frames first .. first + count - 1 of the run (frame f at t = f·frame_dt). Fills
+    positions, velocities (count, n, 2), counts (count, 3) per kind and over_budget (count,);
+    returns the EventLog of their collisions in processing order and the (possibly larger)
+    queue, which the caller keeps in the loop."""
+    bodies, grid, env, queue, contacts = loop.bodies, loop.grid, loop.env, loop.queue, loop.contacts
+    done, listed, involved, base, t_end = loop.done, loop.listed, loop.involved, loop.base, loop.t_end
     log = new_log(1024)
-    sample(bodies, 0.0, positions[0], velocities[0])
-    for f in range(1, n_frames + 1):
-        t_frame = f * frame_dt
+    for row in range(count):
+        t_frame = (first + row) * frame_dt
         processed = 0
         while queue.size[0] > 0 and queue.time[0] <= t_frame:
             if not is_current(queue, 0, bodies.counter, base):
                 pop(queue)
                 continue
             if processed >= budget:
-                over_budget[f] = True
+                over_budget[row] = True
                 break
             t, key = pop(queue)[:2]
             kind, i, j = key_parts(key, base)
             if kind <= SEGMENT:
-                count = collect_collisions(bodies, env, queue, contacts, t, key, base, involved, listed)
+                n_involved = collect_collisions(bodies, env, queue, contacts, t, key, base, involved, listed)
                 solve_contacts(bodies, contacts)
                 settle_resting(bodies, env, contacts)
-                log = record_contacts(log, contacts, t, counts[f])
+                log = record_contacts(log, contacts, t, counts[row])
                 processed += contacts.count[0]
             else:
                 apply_bookkeeping(bodies, grid, env, kind, i, j, t)
-                involved[0], count = i, 1
+                involved[0], n_involved = i, 1
                 processed += 1
-            queue = reschedule(bodies, grid, env, queue, involved, count, t, t_end, base, done)
-        if over_budget[f]:
+            queue = reschedule(bodies, grid, env, queue, involved, n_involved, t, t_end, base, done)
+        if over_budget[row]:
             finish_frame_discretely(bodies, grid, env, t_frame)
             queue = schedule_all(bodies, grid, env, queue, t_frame, t_end, base, done)
-        sample(bodies, t_frame, positions[f], velocities[f])
-    return log
+        sample(bodies, t_frame, positions[row], velocities[row])
+    return log, queue
 
 
 def _checked_inputs(positions, velocities, gravity, radii, masses, box, segments):
@@ -264,24 +289,26 @@ def simulate_events(positions, velocities, gravity, radii, masses, box, restitut
     (m, 4) rows (x0, y0, x1, y1) or None. Inputs are copied, never modified.
     Returns a CCDResult; F = n_frames + 1 samples, the first one the initial state.
     """
-    positions, velocities, gravity, radii, masses, box, segments = _checked_inputs(
-        positions, velocities, gravity, radii, masses, box, segments)
-    if max_events_per_frame < 1 or n_frames < 0 or not frame_dt > 0 or not 0.0 <= restitution <= 1.0:
-        raise ValueError("need max_events_per_frame >= 1, n_frames >= 0, frame_dt > 0 and 0 <= restitution <= 1")
-    n, samples = len(positions), n_frames + 1
-    bodies = Bodies(positions, velocities, np.tile(gravity, (n, 1)), np.zeros(n), radii, masses,
-                    np.full(n, FREE, np.int64), np.full(n, FREE, np.int64), np.zeros((n, 2)), np.zeros(n, np.int64),
-                    np.zeros(n))
-    env = Environment(box, segments, gravity, float(restitution))
+    if max_events_per_frame < 1 or n_frames < 0 or not frame_dt > 0:
+        raise ValueError("need max_events_per_frame >= 1, n_frames >= 0 and frame_dt > 0")
+    loop = start_event_loop(positions, velocities, gravity, radii, masses, box, restitution, segments,
+                            n_frames * frame_dt)
+    n, samples = len(loop.bodies.pos), n_frames + 1
     out_positions, out_velocities = np.empty((samples, n, 2)), np.empty((samples, n, 2))
     counts, over_budget = np.zeros((samples, 3), np.int64), np.zeros(samples, np.bool_)
-    log = run(bodies, make_grid(box, radii, segments), env, float(frame_dt), int(n_frames),
-              int(max_events_per_frame), out_positions, out_velocities, counts, over_budget)
+    sample(loop.bodies, 0.0, out_positions[0], out_velocities[0])
+    log, _ = run(loop, float(frame_dt), 1, int(n_frames), int(max_events_per_frame), out_positions[1:],
+                 out_velocities[1:], counts[1:], over_budget[1:])
+    time, kind, i, j, impulse, point = sorted_log(log)
+    return CCDResult(out_positions, out_velocities, time, kind, i, j, impulse, point, counts[:, WALL].copy(),
+                     counts[:, PAIR].copy(), counts[:, SEGMENT].copy(), over_budget)
+
+
+def sorted_log(log) -> tuple:
+    """The log's collisions (time, kind, i, j, impulse, point) in (time, kind, i, j) order."""
     k = log.size[0]
     time, kind, i, j = log.time[:k], log.kind[:k], log.i[:k], log.j[:k]
     order = np.arange(k)
     if k > 1 and not np.all(time[1:] > time[:-1]):  # simultaneous collisions: put them in (kind, i, j) order
         order = np.lexsort((j, i, kind, time))
-    return CCDResult(out_positions, out_velocities, time[order], kind[order], i[order], j[order],
-                     log.impulse[:k][order], log.point[:k][order], counts[:, WALL].copy(), counts[:, PAIR].copy(),
-                     counts[:, SEGMENT].copy(), over_budget)
+    return time[order], kind[order], i[order], j[order], log.impulse[:k][order], log.point[:k][order]
