@@ -298,9 +298,9 @@ def test_same_input_same_bytes(method):
     assert phase.stats["candidates"] == len(first)
 
 
-def test_unknown_method():
+def test_unknown_broad_phase():
     with pytest.raises(ValueError, match="^unknown broad phase 'x'; choose one of: "
-                                         "brute, sweep_prune, grid, kdtree, bvh$"):
+                                         "brute, sweep_prune, grid, kdtree, bvh, cells$"):
         find_pairs("x", np.zeros((2, 2)), np.ones((2, 2)))
 
 

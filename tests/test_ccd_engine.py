@@ -8,6 +8,7 @@ import collisim
 from collisim.engine import concatenate, stream
 from collisim.analysis import metrics
 from collisim.engine.ccd import simulate_events
+from collisim.gas import lattice_gas
 
 
 def one_particle(velocity, method, gravity=(0.0, 0.0), seconds=1.0, position=(5.0, 5.0), box=(0, 0, 10, 10)):
@@ -143,3 +144,30 @@ def test_ccd_needs_uniform_gravity():
     world = collisim.World(positions=[[2, 2], [5, 5]], accelerations=[[0, -1], [0, -2]])
     with pytest.raises(ValueError, match="uniform gravity"):
         collisim.simulate(collisim.Scene(world=world, method="ccd"))
+
+
+def test_frames_over_the_event_budget_are_flagged_counted_and_said_once(tmp_path, monkeypatch):
+    from collisim import engine
+    from collisim.engine.ccd import CCDStepper
+    # a small budget, so the gas's busiest frames go over it
+    monkeypatch.setitem(engine.METHODS, "ccd", lambda s: CCDStepper(s.world, s.fps, s.frames, max_events_per_frame=3))
+    scene = collisim.load_scene("particles_250").replace(method="ccd", seconds=0.5)
+    with pytest.warns(UserWarning) as caught:
+        traj = collisim.simulate(scene)
+    flagged = int(traj.approximate.sum())
+    assert 0 < flagged <= traj.frames and not traj.approximate[0]
+    messages = [str(w.message) for w in caught]
+    assert len(messages) == 1 and messages[0].startswith(f"{flagged} of 30 frames of particles_250 are approximate")
+    assert "more than 3 events in a frame" in messages[0]
+    shown = int(traj.approximate[:30].sum())   # a 30-frame video shows samples 0 .. 29
+    with pytest.warns(UserWarning, match=f"{shown} of 30 frames of the scene are approximate") as rendered:
+        collisim.render(scene, tmp_path / "gas.mp4", (160, 90))
+    assert len(rendered) == 1
+
+
+def test_the_event_budget_grows_with_the_number_of_bodies():
+    from collisim.engine.ccd import CCDStepper
+    small = collisim.World([[1, 1]])
+    assert CCDStepper(small, 60, 1).max_events == 100_000
+    positions, _, radii = lattice_gas(20_000, box=(0, 0, 400, 400), speed=1.0, seed=1)
+    assert CCDStepper(collisim.World(positions, radii=radii, box=(0, 0, 400, 400)), 60, 1).max_events == 64 * 20_000

@@ -24,6 +24,7 @@ def trajectory(positions, velocities=None, radii=0.5, masses=1.0, events=None):
                       velocities=np.zeros_like(positions) if velocities is None else np.asarray(velocities, float),
                       angles=np.zeros((frames, n)), angular_velocities=np.zeros((frames, n)),
                       wall_collisions=zeros, pair_collisions=zeros, segment_collisions=zeros, candidates=zeros,
+                      approximate=np.zeros(frames, bool),
                       world=world, fps=FPS, events=events or Events.empty())
 
 

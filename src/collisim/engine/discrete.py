@@ -40,9 +40,10 @@ Bodies = namedtuple("Bodies", ["shapes", "positions", "velocities", "angles", "a
                                "accelerations", "radii", "masses"])
 Statics = namedtuple("Statics", ["box", "segments", "index", "restitution"])
 Frames = namedtuple("Frames", ["positions", "velocities", "angles", "angular_velocities", "collisions",
-                               "candidates"])
+                               "candidates", "approximate"])
 Frames.__doc__ = """A block of frames: positions, velocities (f, n, 2); angles, angular_velocities (f, n);
-collisions (f, 3) wall, pair, segment in the interval ending at each frame; candidates (f,)."""
+collisions (f, 3) wall, pair, segment in the interval ending at each frame; candidates (f,);
+approximate (f,) bool: frames the method could not finish exactly (see Trajectory)."""
 
 
 @njit(cache=True)
@@ -178,7 +179,8 @@ def new_frames(count: int, n: int, turning: bool = True) -> Frames:
     memory traffic as the positions (see constant_angles)."""
     columns = n if turning else 0
     return Frames(np.empty((count, n, 2)), np.empty((count, n, 2)), np.empty((count, columns)),
-                  np.empty((count, columns)), np.zeros((count, 3), np.int64), np.zeros(count, np.int64))
+                  np.empty((count, columns)), np.zeros((count, 3), np.int64), np.zeros(count, np.int64),
+                  np.zeros(count, np.bool_))
 
 
 def constant_angles(frames: Frames, angles, angular_velocities) -> Frames:

@@ -1,12 +1,13 @@
 """Run a scene: stream the trajectory in blocks of frames, or collect it whole."""
 from __future__ import annotations
 
+import warnings
 from typing import Iterator
 
 import numpy as np
 
 from ..model.scene import Scene
-from ..model.trajectory import Events, Trajectory
+from ..model.trajectory import Events, Trajectory, approximate_summary
 from .ccd.stepper import CCDStepper
 from .discrete import DiscreteStepper, Frames
 
@@ -27,7 +28,12 @@ def simulate(scene: Scene, progress=None):
         return [simulate(panel.scene, progress) for panel in scene.panels]
     if scene.chapters:
         return [simulate(chapter, progress) for chapter in scene.chapters]
-    return concatenate(list(stream(scene, progress=progress)))
+    trajectory = concatenate(list(stream(scene, progress=progress)))
+    if trajectory.approximate.any():
+        warnings.warn(approximate_summary(trajectory.approximate.sum(), trajectory.frames, scene.name,
+                                          trajectory.warnings), stacklevel=2)
+    return trajectory
+
 
 
 def stream(scene: Scene, block: int = 64, progress=None) -> Iterator[Trajectory]:
@@ -51,7 +57,8 @@ def stream(scene: Scene, block: int = 64, progress=None) -> Iterator[Trajectory]
             times=np.arange(first, first + count) / scene.fps, positions=frames.positions,
             velocities=frames.velocities, angles=frames.angles, angular_velocities=frames.angular_velocities,
             wall_collisions=frames.collisions[:, 0], pair_collisions=frames.collisions[:, 1],
-            segment_collisions=frames.collisions[:, 2], candidates=frames.candidates, world=world, fps=scene.fps,
+            segment_collisions=frames.collisions[:, 2], candidates=frames.candidates,
+            approximate=frames.approximate, world=world, fps=scene.fps,
             events=events, method=scene.method, broadphase=stepper.broadphase, substeps=scene.substeps,
             profile=stepper.profile.seconds, warnings=stepper.warnings)
         first += count
@@ -59,7 +66,8 @@ def stream(scene: Scene, block: int = 64, progress=None) -> Iterator[Trajectory]
 
 def _initial(world) -> Frames:
     return Frames(world.positions[None].copy(), world.velocities[None].copy(), world.angles[None].copy(),
-                  world.angular_velocities[None].copy(), np.zeros((1, 3), np.int64), np.zeros(1, np.int64))
+                  world.angular_velocities[None].copy(), np.zeros((1, 3), np.int64), np.zeros(1, np.int64),
+                  np.zeros(1, np.bool_))
 
 
 def _join(initial: Frames, frames: Frames, events: Events) -> tuple:
@@ -67,7 +75,7 @@ def _join(initial: Frames, frames: Frames, events: Events) -> tuple:
 
 
 _PER_FRAME = ("times", "positions", "velocities", "angles", "angular_velocities", "wall_collisions",
-              "pair_collisions", "segment_collisions", "candidates")
+              "pair_collisions", "segment_collisions", "candidates", "approximate")
 
 
 def concatenate(blocks: list) -> Trajectory:

@@ -17,7 +17,7 @@ from .world import World
 FILE_FORMAT = 1  # the version of the trajectory file written by save()
 _EVENT_FIELDS = ("time", "kind", "i", "j", "impulse", "point")
 _FRAME_FIELDS = ("times", "positions", "velocities", "angles", "angular_velocities", "wall_collisions",
-                 "pair_collisions", "segment_collisions", "candidates")
+                 "pair_collisions", "segment_collisions", "candidates", "approximate")
 _WORLD_FIELDS = ("positions", "velocities", "angles", "angular_velocities", "accelerations", "gravity", "radii",
                  "masses", "colors", "box", "segments")
 
@@ -71,6 +71,8 @@ class Trajectory:
     wall_collisions, pair_collisions, segment_collisions: (F,)  collisions in the interval
                        ending at each frame (0 at t = 0)
     candidates: (F,)   broad-phase candidate pairs of the last step of each frame
+    approximate: (F,) bool  frames the method could not finish exactly (ccd over its event
+                       budget: finished by an approximate step); False everywhere else
     events: every collision, for pressure, flashes and measurements
     world: the initial World (shapes, masses, colours, box, segments: what a player draws)
     fps, method, broadphase, substeps: how it was simulated
@@ -86,6 +88,7 @@ class Trajectory:
     pair_collisions: np.ndarray
     segment_collisions: np.ndarray
     candidates: np.ndarray
+    approximate: np.ndarray
     world: World
     fps: float
     events: Events = field(default_factory=Events.empty)
@@ -143,6 +146,12 @@ class Trajectory:
             Path(temporary).unlink(missing_ok=True)
             raise
         return path
+
+
+def approximate_summary(approximate: int, frames: int, name: str, reasons: list) -> str:
+    """One line: how many frames of a run are approximate (Trajectory.approximate), and why."""
+    why = f": {reasons[0]}" if reasons else ""
+    return f"{approximate} of {frames} frames of {name} are approximate (Trajectory.approximate){why}"
 
 
 def load_trajectory(path) -> Trajectory:

@@ -18,14 +18,15 @@ def method_label(trajectory) -> str:
 def hud_lines(trajectory, frames: int, state, compact: bool = False) -> list:
     """The panel's own clock: its sample index counts frames at the trajectory's fps. A compact
     HUD (narrow panels) keeps the clock and the collision count."""
+    flagged = [f"approximate frames: {state.approximate_frames}"] if state.approximate_frames else []
     if compact:
-        return [f"t = {state.time:5.2f} s  frame {state.sample}", f"collisions: {state.total_collisions}"]
+        return [f"t = {state.time:5.2f} s  frame {state.sample}", f"collisions: {state.total_collisions}"] + flagged
     lines = [f"t = {state.time:6.3f} s   frame {state.sample}/{frames} at {trajectory.fps:g} fps",
              method_label(trajectory)]
     if trajectory.world.n >= 2:
         lines.append(f"pairs: {state.candidates} candidates, {state.pair_collisions} collisions")
     lines.append(f"collisions: {state.total_collisions}")
-    return lines
+    return lines + flagged
 
 
 def draw_hud(canvas, rect, lines: list, scale: float) -> None:

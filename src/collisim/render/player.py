@@ -16,7 +16,7 @@ import numpy as np
 
 from .. import palette
 from ..model.scene import RenderSettings
-from ..model.trajectory import Events
+from ..model.trajectory import Events, approximate_summary
 from . import raster
 from .hud import draw_hud, hud_lines
 from .view import View
@@ -31,8 +31,9 @@ class FrameState:
     """What an overlay or the HUD may read about the sample a panel shows.
 
     positions, velocities: (n, 2); angles: (n,); candidates, pair_collisions: of this sample;
-    total_collisions: all collisions so far; events: the collisions of the sample's block up
-    to its time (Events); counters: the running RenderSettings.counters."""
+    total_collisions: all collisions so far; approximate_frames: samples so far that the method
+    could not finish exactly (Trajectory.approximate); events: the collisions of the sample's
+    block up to its time (Events); counters: the running RenderSettings.counters."""
     time: float
     sample: int
     positions: np.ndarray
@@ -41,6 +42,7 @@ class FrameState:
     candidates: int
     pair_collisions: int
     total_collisions: int
+    approximate_frames: int
     events: Events
     counters: dict = field(default_factory=dict)
 
@@ -79,7 +81,7 @@ class PanelPlayer:
         self.world = self._block.world
         self.view = View(self.world.box, (left, top + title_height, width, height - title_height - hud_height))
         self.text_scale = max(0.38, min(0.55, width / 1280 * 0.8))
-        self._first, self._sample, self._collisions = 0, -1, 0
+        self._first, self._sample, self._collisions, self.approximate_frames = 0, -1, 0, 0
         self._history = deque(maxlen=max(self.settings.trails, 1))
         self._recent = [self._block.events]
         self._counters = dict.fromkeys(self.settings.counters, 0)
@@ -89,6 +91,10 @@ class PanelPlayer:
     def profile(self) -> dict:
         return self._block.profile
 
+    @property
+    def warnings(self) -> list:
+        return self._block.warnings
+
     def advance(self, video_frame: int) -> None:
         """Move to the sample shown at this video frame (never backwards), visiting every
         sample on the way so trails, counts and counters build up."""
@@ -97,6 +103,7 @@ class PanelPlayer:
             self._sample += 1
             row = self._row(self._sample)
             self._collisions += int(self._block.collisions[row])
+            self.approximate_frames += bool(self._block.approximate[row])
             self._history.append(self._block.positions[row])
             before, self.state = self.state, self._state(row)
             if before is not None:
@@ -115,7 +122,8 @@ class PanelPlayer:
         b = self._block
         past = b.events.take(b.events.time <= b.times[row] + 1e-12)
         return FrameState(float(b.times[row]), self._sample, b.positions[row], b.velocities[row], b.angles[row],
-                          int(b.candidates[row]), int(b.pair_collisions[row]), self._collisions, past)
+                          int(b.candidates[row]), int(b.pair_collisions[row]), self._collisions,
+                          self.approximate_frames, past)
 
     def draw(self, canvas) -> None:
         world, settings, state = self.world, self.settings, self.state
@@ -191,6 +199,15 @@ class Timeline:
         local = min(frame - int(self.starts[index]), chapter.frames - 1)
         np.copyto(canvas, self.background)  # a plain copy: filling with a colour is ten times slower
         draw_frame(canvas, self._players, local)
+
+    def approximate_summary(self) -> str:
+        """One line saying how many of the played frames were approximate, and why; '' if none."""
+        players = [p for p in self._finished + self._players if p.approximate_frames]
+        if not players:
+            return ""
+        parts = [approximate_summary(p.approximate_frames, p.source.frames, p.title or "the scene",
+                                     p.warnings) for p in players]
+        return "; ".join(parts)
 
     def profile(self) -> dict:
         total = {}

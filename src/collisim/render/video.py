@@ -242,4 +242,7 @@ def _play(chapters, fps, frames, path, size, codec, quality, png_frame, transpar
         simulated = sum(profile.values())
         profile["draw"] = draw_seconds - simulated  # drawing includes pulling streamed blocks from the engine
         profile["encode"] = video.encode_seconds  # on the encoder's thread, overlapping the drawing
+    summary = timeline.approximate_summary()
+    if summary:
+        warnings.warn(summary, stacklevel=3)
     return path

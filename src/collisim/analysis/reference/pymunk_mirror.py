@@ -161,7 +161,8 @@ class Mirror:
         return Trajectory(times=np.arange(frames + 1) / fps, positions=positions, velocities=velocities,
                           angles=angles, angular_velocities=spins, wall_collisions=collisions[:, WALL],
                           pair_collisions=collisions[:, PAIR], segment_collisions=collisions[:, SEGMENT],
-                          candidates=np.zeros(frames + 1, np.int64), world=w, fps=fps,
+                          candidates=np.zeros(frames + 1, np.int64), approximate=np.zeros(frames + 1, bool), world=w,
+                          fps=fps,
                           events=self.recorder.events(), method="pymunk", broadphase="",
                           substeps=substeps, profile={"step": spent})
 
