@@ -8,6 +8,7 @@ overlapping boxes (touching counts); extra candidates are allowed.
 import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
+from strategies import OPTIONS, box_arrays
 
 from collisim.broadphase import PROTOCOL, describe, find_pairs, make
 
@@ -73,28 +74,6 @@ def gas(n, side, seed, radii=(1.0, 1.5, 2.0)):
 
 # ------------------------------------------------------- property tests
 
-# Small integers make exact ties (touching boxes) common; floats cover the rest.
-coordinate = st.one_of(st.integers(-20, 20).map(float),
-                       st.floats(-100, 100, allow_nan=False, allow_infinity=False))
-extent = st.one_of(st.integers(0, 6).map(float), st.floats(0, 30, allow_nan=False))
-
-
-@st.composite
-def box_arrays(draw):
-    rows = draw(st.lists(st.tuples(coordinate, coordinate, extent, extent), max_size=40))
-    table = np.array(rows, float).reshape(-1, 4)
-    lo = table[:, :2]
-    return lo, lo + table[:, 2:]
-
-
-OPTIONS = {
-    "brute": st.just({}),
-    "sweep_prune": st.just({}),
-    "grid": st.one_of(st.just({}), st.builds(dict, cell_size=st.floats(0.5, 50))),
-    "kdtree": st.builds(dict, leaf_size=st.integers(1, 6), max_depth=st.integers(0, 12)),
-    "bvh": st.builds(dict, leaf_size=st.integers(1, 6)),
-    "cells": st.just({}),
-}
 
 
 @settings(max_examples=60, deadline=None)

@@ -11,6 +11,7 @@ import math
 import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
+from strategies import OPTIONS, box_arrays, coordinate, extent
 
 from collisim.broadphase import PROTOCOL, make, query, raycast
 
@@ -81,33 +82,10 @@ def lattice(rows=4, size=1.0, gap=0.0):
 
 # ------------------------------------------------------- property tests
 
-# Small integers make exact ties (touching, rays along edges, through
-# corners) common; floats cover the rest.
-coordinate = st.one_of(st.integers(-20, 20).map(float),
-                       st.floats(-100, 100, allow_nan=False, allow_infinity=False))
-extent = st.one_of(st.integers(0, 6).map(float), st.floats(0, 30, allow_nan=False))
 component = st.one_of(st.integers(-3, 3).map(float), st.floats(-1, 1, allow_nan=False))
 direction = st.tuples(component, component).filter(lambda d: d != (0.0, 0.0))
 max_distance = st.one_of(st.just(0.0), st.just(math.inf), st.integers(0, 60).map(float),
                          st.floats(0, 300, allow_nan=False))
-
-
-@st.composite
-def box_arrays(draw):
-    rows = draw(st.lists(st.tuples(coordinate, coordinate, extent, extent), max_size=40))
-    table = np.array(rows, float).reshape(-1, 4)
-    lo = table[:, :2]
-    return lo, lo + table[:, 2:]
-
-
-OPTIONS = {
-    "brute": st.just({}),
-    "sweep_prune": st.just({}),
-    "grid": st.one_of(st.just({}), st.builds(dict, cell_size=st.floats(0.5, 50))),
-    "kdtree": st.builds(dict, leaf_size=st.integers(1, 6), max_depth=st.integers(0, 12)),
-    "bvh": st.builds(dict, leaf_size=st.integers(1, 6)),
-    "cells": st.just({}),
-}
 
 
 @settings(max_examples=60, deadline=None)
