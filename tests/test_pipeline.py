@@ -11,6 +11,7 @@ from collisim.engine import concatenate, stream
 from collisim.engine.discrete import DiscreteStepper
 from collisim.engine.profile import PHASES
 from collisim.analysis.bench.segments import segment_gas
+from collisim.gas import lattice_gas
 from collisim.model.kinds import CIRCLE
 from collisim.narrowphase.registry import SHAPE_PAIRS, contact, touching
 
@@ -114,3 +115,22 @@ def test_bodies_carry_angles_that_turn_at_their_angular_velocity():
         np.testing.assert_allclose(traj.angles[-1], [2.0, 0.0], atol=1e-12)
         np.testing.assert_array_equal(traj.angular_velocities[-1], [2.0, -1.0])
     np.testing.assert_allclose(world.inertias, 0.5 * world.masses * 0.25)
+
+
+def test_auto_picks_a_broad_phase_by_what_the_world_holds_and_says_which():
+    from collisim.broadphase.step import choose
+    few = collisim.World([[1.0, 1.0], [3.0, 1.0]], radii=0.5)
+    gas = collisim.load_scene("particles_250").world
+    big = lattice_gas(300, box=(0, 0, 60, 60), speed=1.0, seed=2)
+    radii = big[2].copy()
+    radii[0] = 9 * np.median(radii)   # one body far larger than the rest
+    positions = big[0].copy()
+    positions[0] = [30.0, 30.0]
+    keep = (np.hypot(*(positions - positions[0]).T) > radii[0] + radii) | (np.arange(300) == 0)
+    mixed = collisim.World(positions[keep], radii=radii[keep], box=(0, 0, 60, 60))
+    assert (choose(few), choose(gas), choose(mixed)) == ("brute", "grid", "bvh")
+    scene = collisim.Scene(world=gas, seconds=0.25)
+    assert scene.broadphase == "auto"
+    traj = collisim.simulate(scene)
+    assert traj.broadphase == "grid (auto)"
+    assert_same_run(traj, collisim.simulate(scene.replace(broadphase="sweep_prune")))

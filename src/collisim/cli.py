@@ -83,7 +83,7 @@ def add_render_options(render) -> None:
                         help="allow frames over 7680x4320 and videos over 100000 frames")
     render.add_argument("--method", choices=tuple(METHODS))
     render.add_argument("--substeps", type=int, help="discrete steps per frame")
-    render.add_argument("--broadphase", choices=BROAD_PHASES, help="broad phase")
+    render.add_argument("--broadphase", choices=("auto",) + BROAD_PHASES, help="broad phase")
     render.add_argument("--restitution", type=float, help="coefficient of restitution e in [0, 1]")
     render.add_argument("--profile", action="store_true", help="print time per phase at the end")
     render.add_argument("--no-progress", action="store_true", help="no progress bar")

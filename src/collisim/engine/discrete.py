@@ -22,7 +22,7 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-from ..broadphase.step import candidate_pairs, step_state
+from ..broadphase.step import AUTO, candidate_pairs, choose, step_state
 from ..geometry.box import clamp_into_box
 from ..model.kinds import PAIR, SEGMENT, WALL
 from ..narrowphase.registry import touching_pairs
@@ -194,7 +194,7 @@ def constant_angles(frames: Frames, angles, angular_velocities) -> Frames:
 class DiscreteStepper:
     """Advances a copy of a world, a block of frames at a time."""
 
-    def __init__(self, world, fps: float, substeps: int = 1, broadphase: str = "sweep_prune",
+    def __init__(self, world, fps: float, substeps: int = 1, broadphase: str = "auto",
                  profile: Profile | None = None):
         w = world
         self.bodies = Bodies(w.shapes, w.positions.copy(), w.velocities.copy(), w.angles.copy(),
@@ -202,7 +202,8 @@ class DiscreteStepper:
         index = build_segment_index(w.segments, w.box)
         self.statics = Statics(w.box, w.segments, index, float(w.restitution))
         self.broad = step_state(broadphase, world)
-        self.broadphase = broadphase if w.n >= 2 else ""
+        chosen = f"{choose(world)} (auto)" if broadphase == AUTO else broadphase
+        self.broadphase = chosen if w.n >= 2 else ""
         self.dt = 1.0 / fps / substeps
         self.substeps = int(substeps)
         self.profile = profile or Profile()

@@ -60,7 +60,7 @@ class Scene:
     seconds: float = 2.0
     method: str = "discrete"
     substeps: int = 1
-    broadphase: str = "sweep_prune"
+    broadphase: str = "auto"
     name: str = "scene"
     description: str = ""
     render: RenderSettings = field(default_factory=RenderSettings)
@@ -93,8 +93,9 @@ class Scene:
         if isinstance(self.substeps, bool) or not isinstance(self.substeps, (int, np.integer)) or self.substeps < 1:
             raise ValueError(f"substeps must be a whole number >= 1, got {self.substeps!r}")
         self.substeps = int(self.substeps)
-        if self.broadphase not in BROAD_PHASES:
-            raise ValueError(f"unknown broad phase {self.broadphase!r}; choose one of: {', '.join(BROAD_PHASES)}")
+        if self.broadphase not in ("auto",) + BROAD_PHASES:
+            raise ValueError(f"unknown broad phase {self.broadphase!r}; choose one of: auto, "
+                             f"{', '.join(BROAD_PHASES)}")
         if sum((self.world is not None, bool(self.panels), bool(self.chapters))) != 1:
             raise ValueError("a scene needs exactly one of: a world, panels, chapters")
 

@@ -119,7 +119,7 @@ def _text(name, value):
 
 PARAMETERS = {   # name -> check(name, value): the normalized value, or ValueError
     "scene": _text, "workload": _choice(tuple(WORKLOADS)),
-    "method": _choice(METHODS), "substeps": _whole(1), "broadphase": _choice(tuple(BROAD_PHASES)),
+    "method": _choice(METHODS), "substeps": _whole(1), "broadphase": _choice(("auto",) + tuple(BROAD_PHASES)),
     "fps": _number(0.0), "seconds": _number(0.0), "restitution": _number(0.0, 1.0, low_open=False),
     "seed": _whole(0), "n": _whole(1), "speed": _number(0.0), "packing": _number(0.0, 0.9, high_open=True),
     "phase": _number(0.0, 1.0, low_open=False),
