@@ -134,3 +134,17 @@ def test_auto_picks_a_broad_phase_by_what_the_world_holds_and_says_which():
     traj = collisim.simulate(scene)
     assert traj.broadphase == "grid (auto)"
     assert_same_run(traj, collisim.simulate(scene.replace(broadphase="sweep_prune")))
+
+
+def test_the_event_log_is_capped_with_one_note_and_the_counts_stay_complete():
+    scene = collisim.load_scene("particles_250").replace(seconds=1.0)
+    full = collisim.simulate(scene)
+    assert len(full.events) > 100
+    with pytest.warns(UserWarning, match="only the first 100 collision events are kept") as caught:
+        capped = collisim.simulate(scene, max_events=100)
+    assert len(caught) == 1 and len(capped.events) == 100
+    for name in ("time", "kind", "i", "j"):
+        np.testing.assert_array_equal(getattr(capped.events, name), getattr(full.events, name)[:100])
+    np.testing.assert_array_equal(capped.collisions, full.collisions)
+    none = collisim.simulate(scene, max_events=0)
+    assert len(none.events) == 0 and none.collisions.sum() == full.collisions.sum()

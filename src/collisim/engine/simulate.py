@@ -18,22 +18,36 @@ METHODS = {
 }
 
 
-def simulate(scene: Scene, progress=None):
+MAX_EVENTS = 10_000_000   # about 500 MB of event log; the per-frame counts are always complete
+
+
+def simulate(scene: Scene, progress=None, max_events: int = MAX_EVENTS):
     """The state at every frame time, t = 0 included: a Trajectory with frames + 1 samples.
 
     A scene made of panels gives one Trajectory per panel (a list), one of chapters a list per
-    chapter. `progress(frames)` is called as frames are done.
+    chapter. `progress(frames)` is called as frames are done. The event log keeps the first
+    `max_events` collisions (0 keeps none), so a long run of a busy scene stays bounded in
+    memory; the per-frame collision counts are always complete, and a cut log is said once.
     """
     if scene.panels:
-        return [simulate(panel.scene, progress) for panel in scene.panels]
+        return [simulate(panel.scene, progress, max_events) for panel in scene.panels]
     if scene.chapters:
-        return [simulate(chapter, progress) for chapter in scene.chapters]
-    trajectory = concatenate(list(stream(scene, progress=progress)))
+        return [simulate(chapter, progress, max_events) for chapter in scene.chapters]
+    blocks, kept, cut = [], 0, False
+    for block in stream(scene, progress=progress):
+        room = max(max_events - kept, 0)
+        if len(block.events) > room:
+            block.events, cut = block.events.take(slice(0, room)), True
+        kept += len(block.events)
+        blocks.append(block)
+    trajectory = concatenate(blocks)
+    if cut and max_events > 0:
+        warnings.warn(f"{scene.name}: only the first {max_events} collision events are kept in "
+                      f"Trajectory.events; the per-frame collision counts are complete", stacklevel=2)
     if trajectory.approximate.any():
         warnings.warn(approximate_summary(trajectory.approximate.sum(), trajectory.frames, scene.name,
                                           trajectory.warnings), stacklevel=2)
     return trajectory
-
 
 
 def stream(scene: Scene, block: int = 64, progress=None) -> Iterator[Trajectory]:
