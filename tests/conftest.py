@@ -43,7 +43,7 @@ def statics_step(positions, velocities, radii, masses, box, segments=None, resti
                     np.asarray(radii, float), np.asarray(masses, float))
     statics = Statics(box, segments, build_segment_index(segments, box), float(restitution))
     counts = np.zeros(3, np.int64)
-    log = statics_phase(bodies, statics, statics_scratch(len(segments)), new_log(4), 0.0, counts)
+    log = statics_phase(bodies, statics, statics_scratch(n, len(segments)), new_log(4), 0.0, counts)
     return counts, log_events(log)
 
 

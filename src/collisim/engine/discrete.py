@@ -23,10 +23,10 @@ import numpy as np
 from numba import njit
 
 from ..broadphase.step import AUTO, candidate_pairs, choose, step_state
-from ..geometry.box import clamp_into_box
+from ..geometry.box import centre_range, clamp_into_box
 from ..model.kinds import PAIR, SEGMENT, WALL
 from ..narrowphase.registry import touching_pairs
-from ..narrowphase.statics import empty_contacts, segment_contacts
+from ..narrowphase.statics import segment_contacts
 from ..response.pairs import resolve_pairs, separate_pairs
 from ..response.statics import bounce_between_walls, bounce_off_segment
 from ..statics.segment_index import build_segment_index
@@ -80,7 +80,7 @@ def _pair_phases(bodies, statics, broad, lo, hi, log, now, frame_collisions, pha
     t = _lap(phase_cycles, NARROW, t)
     impulse, point = np.empty(contacts.shape[0]), np.empty((contacts.shape[0], 2))
     frame_collisions[PAIR] += resolve_pairs(b.shapes, b.positions, b.velocities, b.masses, b.radii, contacts,
-                                  contacts.shape[0], statics.restitution, impulse, point)
+                                            contacts.shape[0], statics.restitution, impulse, point)
     log = with_room(log, contacts.shape[0])
     for c in range(contacts.shape[0]):
         if impulse[c] > 0.0:
@@ -90,15 +90,16 @@ def _pair_phases(bodies, statics, broad, lo, hi, log, now, frame_collisions, pha
 
 
 @njit(cache=True)
-def statics_scratch(m):
-    """Buffers for statics_phase: segment contacts (grown as needed), near segments (m,)."""
-    return empty_contacts(), np.empty(max(m, 1), np.int64)
+def statics_scratch(n, m):
+    """Buffers for statics_phase: segment contacts (room for one a body; grown when a step has
+    more), near segments (m,)."""
+    return np.empty((n + 16, 2), np.int64), np.empty(max(m, 1), np.int64)
 
 
 @njit(cache=True)
 def statics_phase(bodies, statics, scratch, log, now, frame_collisions):
-    """Segments, then walls, in place; collisions added to frame_collisions (3,: wall, pair, segment) and log. scratch from
-    statics_scratch. Returns the log."""
+    """Segments, then walls, in place; collisions added to frame_collisions (3,: wall, pair,
+    segment) and log. scratch from statics_scratch. Returns the log."""
     b, s = bodies, statics
     if s.segments.shape[0] > 0:
         found, count = segment_contacts(b.positions, b.radii, s.segments, s.index, scratch[0], scratch[1])
@@ -113,7 +114,7 @@ def statics_phase(bodies, statics, scratch, log, now, frame_collisions):
     log = with_room(log, 4 * b.positions.shape[0])  # at most one event per body and wall
     for i in range(b.positions.shape[0]):
         for axis in range(2):
-            low, high = s.box[axis] + b.radii[i], s.box[axis + 2] - b.radii[i]
+            low, high = centre_range(s.box, axis, b.radii[i])
             if low <= b.positions[i, axis] <= high:
                 continue  # the extreme points are inside: no wall touched on this axis
             low_bounces, high_bounces, low_impulse, high_impulse = bounce_between_walls(
@@ -143,7 +144,7 @@ def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, phase
     b, s = bodies, statics
     n = b.positions.shape[0]
     lo, hi = np.empty((n, 2)), np.empty((n, 2))
-    scratch = statics_scratch(s.segments.shape[0])
+    scratch = statics_scratch(n, s.segments.shape[0])
     t = start
     for frame in range(out.positions.shape[0]):
         frame_collisions = out.collisions[frame]

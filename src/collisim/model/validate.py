@@ -77,28 +77,23 @@ def _rows(name: str, value, columns: int, shape_text: str, hint: str = "", flat_
 
 def no_overlaps(world) -> None:
     """ValueError naming the first pair of bodies, or body and segment, that overlap."""
-    from ..broadphase import find_pairs
+    from ..narrowphase.registry import contacts
+    from ..narrowphase.statics import touching_segments
     if world.n >= 2:
-        reach = world.radii[:, None]
-        pairs = find_pairs("grid", world.positions - reach, world.positions + reach)
-        gap = np.hypot(*(world.positions[pairs[:, 1]] - world.positions[pairs[:, 0]]).T)
-        contact = world.radii[pairs].sum(axis=1)
-        deep = np.flatnonzero(gap < contact * (1 - TOUCH_TOLERANCE))
+        found = contacts(world)
+        pairs, depths = found["pairs"], found["depths"]
+        deep = np.flatnonzero(depths > world.radii[pairs].sum(axis=1) * TOUCH_TOLERANCE)
         if deep.size:
             i, j = pairs[deep[0]]
-            raise ValueError(f"bodies {i} and {j} overlap by {contact[deep[0]] - gap[deep[0]]:.3g} at the start; "
+            raise ValueError(f"bodies {i} and {j} overlap by {depths[deep[0]]:.3g} at the start; "
                              f"place them apart or touching")
     if len(world.segments):
-        from ..narrowphase.statics import circle_segment, empty_contacts, segment_contacts
-        from ..statics.segment_index import build_segment_index
-        index = build_segment_index(world.segments, world.box)
-        touching, count = segment_contacts(world.positions, world.radii, world.segments, index, empty_contacts(),
-                                           np.empty(len(world.segments), np.int64))
-        for i, s in touching[:count]:   # the few that touch: which of them overlap?
-            depth = circle_segment(world.positions, world.radii, i, world.segments, s)[2]
-            if depth > world.radii[i] * TOUCH_TOLERANCE:
-                raise ValueError(f"body {i} overlaps segment {s} by {depth:.3g} at the start; "
-                                 f"place it apart or touching")
+        pairs, depths = touching_segments(world.positions, world.radii, world.segments, world.box)
+        deep = np.flatnonzero(depths > world.radii[pairs[:, 0]] * TOUCH_TOLERANCE)
+        if deep.size:
+            i, s = pairs[deep[0]]
+            raise ValueError(f"body {i} overlaps segment {s} by {depths[deep[0]]:.3g} at the start; "
+                             f"place it apart or touching")
 
 
 def _short(value) -> str:

@@ -45,6 +45,16 @@ def touching_pairs(shapes, positions, radii, candidates):
     return candidates[keep]
 
 
+@njit(cache=True)
+def contact_rows(shapes, positions, radii, pairs):
+    """The contacts (k, 5) of pairs (k, 2): rows nx, ny, depth, px, py."""
+    rows = np.empty((pairs.shape[0], 5))
+    for c in range(pairs.shape[0]):
+        rows[c, 0], rows[c, 1], rows[c, 2], rows[c, 3], rows[c, 4] = contact(shapes, positions, radii,
+                                                                             pairs[c, 0], pairs[c, 1])
+    return rows
+
+
 def contacts(world, positions=None) -> dict:
     """The contacts between the bodies of `world` (at `positions`, default the world's own):
     pairs (k, 2) with i < j, normals (k, 2) from i to j, depths (k,), points (k, 2)."""
@@ -53,5 +63,5 @@ def contacts(world, positions=None) -> dict:
     reach = world.radii[:, None]
     pairs = touching_pairs(world.shapes, positions, world.radii,
                            find_pairs("grid", positions - reach, positions + reach))
-    rows = np.array([contact(world.shapes, positions, world.radii, i, j) for i, j in pairs]).reshape(-1, 5)
+    rows = contact_rows(world.shapes, positions, world.radii, pairs)
     return {"pairs": pairs, "normals": rows[:, :2], "depths": rows[:, 2], "points": rows[:, 3:]}

@@ -35,6 +35,17 @@ def segment_contacts(positions, radii, segments, index, contacts, near):
     return contacts, count
 
 
+def touching_segments(positions, radii, segments, box) -> tuple:
+    """Which circles touch which segments, outside a run (validation, tools): pairs (k, 2)
+    body, segment, and their depths (k,), through a static index built for the call."""
+    from ..statics.segment_index import build_segment_index
+    found, count = segment_contacts(positions, radii, segments, build_segment_index(segments, box),
+                                    empty_contacts(), np.empty(len(segments), np.int64))
+    pairs = found[:count].copy()
+    depths = np.array([circle_segment(positions, radii, i, segments, s)[2] for i, s in pairs])
+    return pairs, depths
+
+
 @njit(cache=True)
 def empty_contacts():
     """A (16, 2) int64 buffer for segment_contacts to grow."""

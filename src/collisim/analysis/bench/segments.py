@@ -14,6 +14,7 @@ import numpy as np
 
 import collisim
 from collisim.gas import lattice_gas
+from collisim.narrowphase.statics import touching_segments
 
 from .broadphase import time_discrete_step
 
@@ -29,19 +30,9 @@ def segment_gas(n: int, m: int, seed: int = 3, length: float = 1.2) -> collisim.
     angles = rng.uniform(0.0, np.pi, m)
     ends = np.clip(starts + length * np.column_stack([np.cos(angles), np.sin(angles)]), 0.0, side)
     segments = np.column_stack([starts, ends])
-    free = ~touching_a_segment(positions, radii, segments, box)
+    free = np.ones(len(positions), bool)
+    free[touching_segments(positions, radii, segments, box)[0][:, 0]] = False
     return collisim.World(positions[free], velocities[free], radii[free], box=box, segments=segments)
-
-
-def touching_a_segment(positions, radii, segments, box) -> np.ndarray:
-    """(n,) bool: which circles touch or cross one of the segments."""
-    from collisim.narrowphase.statics import empty_contacts, segment_contacts
-    from collisim.statics.segment_index import build_segment_index
-    found, count = segment_contacts(positions, radii, segments, build_segment_index(segments, box),
-                                    empty_contacts(), np.empty(len(segments), np.int64))
-    touching = np.zeros(len(positions), bool)
-    touching[found[:count, 0]] = True
-    return touching
 
 
 def run(out_dir: Path, n: int = 18_000, m: int = 2_000, repeats: int = 3) -> dict:
