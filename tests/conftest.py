@@ -41,9 +41,10 @@ def statics_step(positions, velocities, radii, masses, box, segments=None, resti
     accelerations = np.zeros((n, 2)) if accelerations is None else np.asarray(accelerations, float)
     bodies = Bodies(np.zeros(n, np.int8), positions, velocities, np.zeros(n), np.zeros(n), accelerations,
                     np.asarray(radii, float), np.asarray(masses, float))
-    statics = Statics(box, segments, build_segment_index(segments, box), float(restitution))
+    from collisim.statics.map_field import no_map_field
+    statics = Statics(box, segments, build_segment_index(segments, box), no_map_field(), float(restitution))
     counts = np.zeros(3, np.int64)
-    log = statics_phase(bodies, statics, statics_scratch(n, len(segments)), new_log(4), 0.0, counts)
+    log = statics_phase(bodies, statics, statics_scratch(n, len(segments)), 1.0, new_log(4), 0.0, counts)
     return counts, log_events(log)
 
 

@@ -6,9 +6,11 @@ One step of dt is the pipeline below, each phase timed into the profile (engine/
     broad         candidate pairs from the bodies' bounding boxes (any of the five broad phases)
     narrow        keep the candidates that really touch (narrowphase/registry.py)
     response      impulses, then overlap removal, in sorted pair order (response/pairs.py)
-    statics       segments near each body (statics/segment_index.py), then the box walls
+    statics       segments near each body (statics/segment_index.py), the collision map
+                  (each step's move marched through its distance field), then the box walls
     settle        a wall bounce may push a body back into its partner: separate this step's
-                  contacts again and keep every body in the box (positions only)
+                  contacts again and keep every body in the box and out of the map
+                  (positions only)
     record        the frame's state into the trajectory
 
 A frame is k substeps of dt/k. The whole block of frames runs as one compiled call (a Python
@@ -24,11 +26,13 @@ from numba import njit
 
 from ..broadphase.step import AUTO, candidate_pairs, choose, step_state
 from ..geometry.box import centre_range, clamp_into_box
-from ..model.kinds import PAIR, SEGMENT, WALL
+from ..model.kinds import MAP, PAIR, SEGMENT, WALL
 from ..narrowphase.registry import touching_pairs
 from ..narrowphase.statics import segment_contacts
+from ..response.map import bounce_off_map, push_out
 from ..response.pairs import resolve_pairs, separate_pairs
 from ..response.statics import bounce_between_walls, bounce_off_segment
+from ..statics.map_field import has_map, no_map_field
 from ..statics.segment_index import build_segment_index
 from .eventlog import append, log_events, new_log, with_room
 from .integrate import integrate
@@ -38,7 +42,7 @@ INTEGRATE, BROAD, NARROW, RESPONSE, STATICS, SETTLE, RECORD, TOTAL = range(8)
 
 Bodies = namedtuple("Bodies", ["shapes", "positions", "velocities", "angles", "angular_velocities",
                                "accelerations", "radii", "masses"])
-Statics = namedtuple("Statics", ["box", "segments", "index", "restitution"])
+Statics = namedtuple("Statics", ["box", "segments", "index", "map", "restitution"])
 Frames = namedtuple("Frames", ["positions", "velocities", "angles", "angular_velocities", "collisions",
                                "candidates", "approximate"])
 Frames.__doc__ = """A block of frames: positions, velocities (f, n, 2); angles, angular_velocities (f, n);
@@ -92,12 +96,13 @@ def _pair_phases(bodies, statics, broad, lo, hi, log, now, frame_collisions, pha
 @njit(cache=True)
 def statics_scratch(n, m):
     """Buffers for statics_phase: segment contacts (room for one a body; grown when a step has
-    more), near segments (m,)."""
-    return np.empty((n + 16, 2), np.int64), np.empty(max(m, 1), np.int64)
+    more), near segments (m,), and the positions (n, 2) at the start of the step (the map
+    marches each step's move from there)."""
+    return np.empty((n + 16, 2), np.int64), np.empty(max(m, 1), np.int64), np.empty((n, 2))
 
 
 @njit(cache=True)
-def statics_phase(bodies, statics, scratch, log, now, frame_collisions):
+def statics_phase(bodies, statics, scratch, dt, log, now, frame_collisions):
     """Segments, then walls, in place; collisions added to frame_collisions (3,: wall, pair,
     segment) and log. scratch from statics_scratch. Returns the log."""
     b, s = bodies, statics
@@ -111,6 +116,8 @@ def statics_phase(bodies, statics, scratch, log, now, frame_collisions):
             if impulse > 0.0:
                 append(log, now, SEGMENT, i, k, impulse, x, y)
                 frame_collisions[SEGMENT] += 1
+    if has_map(s.map):
+        log = map_phase(b, s, scratch[2], dt, log, now, frame_collisions)
     log = with_room(log, 4 * b.positions.shape[0])  # at most one event per body and wall
     for i in range(b.positions.shape[0]):
         for axis in range(2):
@@ -124,6 +131,21 @@ def statics_phase(bodies, statics, scratch, log, now, frame_collisions):
             if high_bounces > 0:
                 _log_wall(log, now, b.positions, s.box, i, axis, 1, high_impulse)
             frame_collisions[WALL] += low_bounces + high_bounces
+    return log
+
+
+@njit(cache=True)
+def map_phase(bodies, statics, start, dt, log, now, frame_collisions):
+    """Every body's move this step of dt (from start (n, 2)) against the collision map; bounces are
+    counted with the segments' (frame_collisions[SEGMENT]) and logged as MAP events."""
+    b = bodies
+    log = with_room(log, b.positions.shape[0])
+    for i in range(b.positions.shape[0]):
+        impulse, x, y, bounces = bounce_off_map(statics.map, start, b.positions, b.velocities, b.accelerations,
+                                                b.radii, b.masses, statics.restitution, dt, i)
+        if bounces > 0:
+            append(log, now, MAP, i, -1, impulse, x, y)
+            frame_collisions[SEGMENT] += bounces
     return log
 
 
@@ -152,17 +174,22 @@ def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, phase
             step_count += 1
             now = step_count * dt
             t = cycles()
+            if has_map(s.map):
+                scratch[2][:] = b.positions
             integrate(b.positions, b.velocities, b.accelerations, b.angles, b.angular_velocities, dt)
             t = _lap(phase_cycles, INTEGRATE, t)
             contacts = np.empty((0, 2), np.intp)
             if n >= 2:
                 contacts, candidates, log, t = _pair_phases(b, s, broad, lo, hi, log, now, frame_collisions, phase_cycles, t)
                 out.candidates[frame] = candidates
-            log = statics_phase(b, s, scratch, log, now, frame_collisions)
+            log = statics_phase(b, s, scratch, dt, log, now, frame_collisions)
             t = _lap(phase_cycles, STATICS, t)
             if contacts.shape[0] > 0:
                 separate_pairs(b.shapes, b.positions, b.masses, b.radii, contacts, contacts.shape[0])
                 clamp_into_box(b.positions, b.radii, s.box)
+                if has_map(s.map):
+                    for i in range(n):
+                        push_out(s.map, b.positions, b.radii[i], i)
                 t = _lap(phase_cycles, SETTLE, t)
         out.positions[frame] = b.positions
         out.velocities[frame] = b.velocities
@@ -201,7 +228,8 @@ class DiscreteStepper:
         self.bodies = Bodies(w.shapes, w.positions.copy(), w.velocities.copy(), w.angles.copy(),
                              w.angular_velocities.copy(), w.accelerations, w.radii, w.masses)
         index = build_segment_index(w.segments, w.box)
-        self.statics = Statics(w.box, w.segments, index, float(w.restitution))
+        field = no_map_field() if w.map is None else w.map.field
+        self.statics = Statics(w.box, w.segments, index, field, float(w.restitution))
         self.broad = step_state(broadphase, world)
         chosen = f"{choose(world)} (auto)" if broadphase == AUTO else broadphase
         self.broadphase = chosen if w.n >= 2 else ""

@@ -7,6 +7,11 @@ method numbers its bookkeeping events after them (engine/ccd/eventqueue.py).
 CIRCLE = 0
 
 WALL, PAIR, SEGMENT = 0, 1, 2
+# A collision with the collision map (statics/collision_map.py). Its `j` is the map segment
+# under ccd, which collides with the map's exact contour chains, and -1 under the discrete
+# method, which samples the map's distance field. The per-frame counts add these to the
+# segment collisions: both are level geometry.
+MAP = 3
 
 # A wall event's `j`: which side of the box (2·axis + side), in this order.
 WALL_SIDES = ("left", "right", "bottom", "top")

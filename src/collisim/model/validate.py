@@ -57,6 +57,14 @@ def segments_array(value) -> np.ndarray:
     return _rows("segments", [] if value is None else value, 4, "(m, 4) rows x0, y0, x1, y1", flat_row=True)
 
 
+def collision_map(value):
+    """A CollisionMap (statics/collision_map.py) or None."""
+    from ..statics.collision_map import CollisionMap
+    if value is not None and not isinstance(value, CollisionMap):
+        raise ValueError(f"map must be a collisim.CollisionMap or None, got {type(value).__name__}")
+    return value
+
+
 def _rows(name: str, value, columns: int, shape_text: str, hint: str = "", flat_row: bool = False) -> np.ndarray:
     """A finite (k, columns) float64 array, or ValueError naming `name`."""
     try:
@@ -94,6 +102,27 @@ def no_overlaps(world) -> None:
             i, s = pairs[deep[0]]
             raise ValueError(f"body {i} overlaps segment {s} by {depths[deep[0]]:.3g} at the start; "
                              f"place it apart or touching")
+    if world.map is not None:
+        _outside_map(world)
+
+
+def _outside_map(world) -> None:
+    """ValueError naming the first body that starts inside the collision map's solid, or
+    overlapping its contour chains (which ccd collides with exactly)."""
+    from ..narrowphase.statics import touching_segments
+    depths = world.radii - world.map.distance(world.positions)
+    # the distance field is exact only to about a cell: its own tolerance is half a cell
+    deep = np.flatnonzero(depths > 0.5 * world.map.cell + world.radii * TOUCH_TOLERANCE)
+    if deep.size:
+        i = deep[0]
+        raise ValueError(f"body {i} at ({world.positions[i, 0]:g}, {world.positions[i, 1]:g}) starts inside the "
+                         f"collision map's solid; place it in free space")
+    pairs, depths = touching_segments(world.positions, world.radii, world.map.segments, world.box)
+    deep = np.flatnonzero(depths > world.radii[pairs[:, 0]] * TOUCH_TOLERANCE)
+    if deep.size:
+        i = pairs[deep[0], 0]
+        raise ValueError(f"body {i} overlaps the collision map's outline by {depths[deep[0]]:.3g} at the start; "
+                         f"place it in free space")
 
 
 def _short(value) -> str:

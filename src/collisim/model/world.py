@@ -31,13 +31,14 @@ class World:
     Statics:
     box: (xmin, ymin, xmax, ymax)  the walls
     segments: (m, 4)             thin segments x0, y0, x1, y1 with no thickness
+    map: a CollisionMap or None  a level made from an image (statics/collision_map.py)
     restitution: e in [0, 1] for every contact (1 = elastic)
     """
 
     def __init__(self, positions, velocities=None, radii=1.0, masses=None, *,
                  box=(0.0, 0.0, 10.0, 10.0), gravity=(0.0, 0.0), accelerations=None,
                  colors=None, restitution: float = 1.0, segments=None, angles=0.0,
-                 angular_velocities=0.0):
+                 angular_velocities=0.0, map=None):
         self.positions = validate.positions_array(positions)
         n = len(self.positions)
         self.velocities = validate.per_body("velocities", 0.0 if velocities is None else velocities, n, 2)
@@ -54,6 +55,7 @@ class World:
         self.shapes = np.full(n, CIRCLE, np.int8)
         self.box = validate.per_body("box", box, 4)
         self.segments = validate.segments_array(segments)
+        self.map = validate.collision_map(map)
         if restitution is None:
             raise ValueError("restitution must be a number in [0, 1], got None")
         self.restitution = validate.number("restitution", restitution, low=0.0, high=1.0)
@@ -68,6 +70,15 @@ class World:
     def inertias(self) -> np.ndarray:
         """(n,) moments of inertia about the centres: ½·m·r² for a solid disc."""
         return 0.5 * self.masses * self.radii ** 2
+
+    @property
+    def level_segments(self) -> np.ndarray:
+        """(m + k, 4) the world's segments, then the collision map's contour chains: the exact
+        outline of the level (ccd and the pymunk reference collide with it; the discrete method
+        samples the map's distance field instead)."""
+        if self.map is None:
+            return self.segments
+        return np.concatenate([self.segments, self.map.segments])
 
     @property
     def uniform_acceleration(self) -> bool:
@@ -100,7 +111,7 @@ class World:
         fields = dict(positions=self.positions, velocities=self.velocities, radii=self.radii, masses=self.masses,
                       box=self.box, gravity=self.gravity, accelerations=self.accelerations, colors=self.colors,
                       restitution=self.restitution, segments=self.segments, angles=self.angles,
-                      angular_velocities=self.angular_velocities)
+                      angular_velocities=self.angular_velocities, map=self.map)
         if "gravity" in changes and "accelerations" not in changes:
             fields["accelerations"] = None   # every body follows the new gravity
         fields.update(changes)

@@ -86,6 +86,7 @@ class PanelPlayer:
         self._recent = [self._block.events]
         self._counters = dict.fromkeys(self.settings.counters, 0)
         self.state = None
+        self._map_coverage = None   # the map's pixels on the canvas, computed at the first draw
 
     @property
     def profile(self) -> dict:
@@ -131,6 +132,10 @@ class PanelPlayer:
             left, top, width, _ = self.rect
             raster.draw_text(canvas, self.title, (left + width // 2, top + 26), scale=self.text_scale * 1.25,
                              thickness=2, anchor="center")
+        if world.map is not None:
+            if self._map_coverage is None:
+                self._map_coverage = raster.map_coverage(self.view, world.map, canvas.shape)
+            raster.draw_map(canvas, self.view, world.map, self._map_coverage)
         raster.draw_box(canvas, self.view, world.box)
         raster.draw_segments(canvas, self.view, world.segments)
         if settings.trails:

@@ -65,6 +65,32 @@ def draw_segments(canvas, view, segments, color_rgb=None, thickness: int = 3) ->
                   cv2.LINE_AA, SHIFT)
 
 
+def map_coverage(view, collision_map, canvas_shape) -> np.ndarray:
+    """Which canvas pixels (h, w) bool show solid map: the map's solid mask warped into the
+    view with nearest-neighbour sampling, so each map pixel is a sharp square at any zoom.
+    A map does not move: compute this once per panel."""
+    m = collision_map
+    height = m.solid.shape[0]
+    x0, y0 = m.origin
+    top_left = view.to_pixels([x0, y0 + height * m.cell])
+    step = view.scale * m.cell
+    # map pixel centre (column j, row i from the top) -> canvas pixel coordinates
+    affine = np.array([[step, 0.0, top_left[0] + 0.5 * step - 0.5],
+                       [0.0, step, top_left[1] + 0.5 * step - 0.5]])
+    image = np.ascontiguousarray(m.solid[::-1]).astype(np.uint8)
+    return cv2.warpAffine(image, affine, (canvas_shape[1], canvas_shape[0]), flags=cv2.INTER_NEAREST,
+                          borderMode=cv2.BORDER_CONSTANT, borderValue=0).astype(bool)
+
+
+def draw_map(canvas, view, collision_map, coverage, color_rgb=None, shade: float = 0.3) -> None:
+    """A collision map as the level it is: its solid pixels (`coverage`, from map_coverage)
+    shaded a fraction `shade` toward the box colour, and its contour chains as outlines."""
+    color = np.array(bgr(_or(color_rgb, palette.BOX)), np.float32)
+    canvas[coverage] = ((1.0 - shade) * canvas[coverage] + shade * color).astype(np.uint8)
+    polylines = [fixed(view.to_pixels(chain)).astype(np.int32) for chain in collision_map.chains]
+    cv2.polylines(canvas, polylines, True, bgr(_or(color_rgb, palette.BOX)), 1, cv2.LINE_AA, SHIFT)
+
+
 def draw_trails(canvas, view, history, colors_rgb) -> None:
     """Motion trails: history (T, n, 2) world positions, oldest first. Drawn dimmed, one
     polyline call per colour."""

@@ -267,7 +267,7 @@ def _add_walls(space, world, recorder) -> None:
 
 def _add_segments(space, world, recorder) -> None:
     elasticity = _shape_elasticity(world)
-    for index, (x0, y0, x1, y1) in enumerate(world.segments):
+    for index, (x0, y0, x1, y1) in enumerate(world.level_segments):   # the map's exact outline too
         segment = pymunk.Segment(space.static_body, (float(x0), float(y0)), (float(x1), float(y1)), 0.0)
         _set_material(segment, SEGMENT_TYPE, elasticity)
         space.add(segment)

@@ -11,10 +11,21 @@ import time
 
 import numpy as np
 
+from ...model.kinds import MAP, SEGMENT
 from ...model.trajectory import Events
 from ..discrete import new_frames
 from ..profile import Profile
 from .events import run, sorted_log, start_event_loop
+
+
+def map_events(events: Events, own_segments: int) -> Events:
+    """Label collisions with the map's chains as kinds.MAP, numbered within the map."""
+    on_map = (events.kind == SEGMENT) & (events.j >= own_segments)
+    if on_map.any():
+        events.kind[on_map] = MAP
+        events.j[on_map] -= own_segments
+        events = Events.concatenate([events])   # back to canonical (time, kind, i, j) order
+    return events
 
 
 class CCDStepper:
@@ -32,7 +43,7 @@ class CCDStepper:
         self.max_events = max(100_000, 64 * world.n) if max_events_per_frame is None else max_events_per_frame
         gravity = world.accelerations[0] if world.n else world.gravity
         self.loop = start_event_loop(world.positions, world.velocities, gravity, world.radii, world.masses,
-                                     world.box, world.restitution, world.segments, frames * self.frame_dt)
+                                     world.box, world.restitution, world.level_segments, frames * self.frame_dt)
         self.profile = profile or Profile()
         self.warnings = []
         self._frames_done = 0
@@ -57,4 +68,4 @@ class CCDStepper:
         out.angles[:] = w.angles + np.outer(elapsed, w.angular_velocities)
         out.angular_velocities[:] = w.angular_velocities
         self._frames_done += count
-        return out, Events(*sorted_log(log))
+        return out, map_events(Events(*sorted_log(log)), len(w.segments))

@@ -1,0 +1,105 @@
+"""Bodies against a collision map, under both methods: nothing gets out of a closed level at any
+speed, bounces keep energy, the map's collisions are counted and logged, and bad starts are
+refused."""
+import numpy as np
+import pytest
+from matplotlib.path import Path as Polygon
+
+import collisim
+from collisim.model.kinds import MAP
+
+RADIUS = 0.2
+BOX = (0.0, 0.0, 8.0, 8.0)
+CELL = 0.05
+
+
+def star_container() -> np.ndarray:
+    """A closed, non-convex free region: a seven-pointed star, inside solid."""
+    angles = np.linspace(0.0, 2.0 * np.pi, 14, endpoint=False)
+    radii = np.where(np.arange(14) % 2 == 0, 3.7, 2.2)
+    return np.column_stack([4.0 + radii * np.cos(angles), 4.0 + radii * np.sin(angles)])
+
+
+def container_map() -> collisim.CollisionMap:
+    height = width = int(BOX[2] / CELL)
+    rows, cols = np.mgrid[0:height, 0:width]
+    centres = np.column_stack([((cols + 0.5) * CELL).ravel(), ((height - rows - 0.5) * CELL).ravel()])
+    free = Polygon(star_container()).contains_points(centres).reshape(height, width)
+    return collisim.CollisionMap.from_image(np.where(free, 255, 0).astype(np.uint8), cell=CELL)
+
+
+@pytest.fixture(scope="module")
+def level():
+    return container_map()
+
+
+def fast_world(level, n=12, speed_radii_per_frame=10.0, gravity=(0.0, 0.0), seed=0):
+    rng = np.random.default_rng(seed)
+    angles = np.linspace(0.0, 2.0 * np.pi, n, endpoint=False)
+    positions = 4.0 + 1.1 * np.column_stack([np.cos(angles), np.sin(angles)])
+    directions = rng.normal(size=(n, 2))
+    directions /= np.linalg.norm(directions, axis=1, keepdims=True)
+    velocities = directions * speed_radii_per_frame * RADIUS * 60 * rng.uniform(0.3, 1.0, (n, 1))
+    return collisim.World(positions, velocities, RADIUS, box=BOX, map=level, gravity=gravity)
+
+
+@pytest.mark.parametrize("method", ["discrete", "ccd"])
+def test_nothing_leaves_a_closed_map_at_ten_radii_a_frame(level, method):
+    frames = 100_000
+    world = fast_world(level)
+    trajectory = collisim.simulate(collisim.Scene(world=world, fps=60, seconds=frames / 60, method=method))
+    centres = trajectory.positions.reshape(-1, 2)
+    outside = ~Polygon(star_container()).contains_points(centres)
+    assert not outside.any(), f"{outside.sum()} samples outside the level"
+    depth = RADIUS - level.distance(centres)
+    assert depth.max() < 2 * CELL   # within the map's resolution of the exact outline
+
+
+def test_elastic_bounces_off_the_map_keep_energy_without_gravity(level):
+    world = fast_world(level, speed_radii_per_frame=2.0)
+    world = collisim.World(world.positions[:1], world.velocities[:1], RADIUS, box=BOX, map=level)
+    trajectory = collisim.simulate(collisim.Scene(world=world, fps=60, seconds=5.0))
+    speed = np.linalg.norm(trajectory.velocities[:, 0], axis=1)
+    np.testing.assert_allclose(speed, speed[0], rtol=1e-12)
+    assert trajectory.segment_collisions.sum() > 10
+
+
+def test_map_collisions_are_logged_as_map_events_under_both_methods(level):
+    world = fast_world(level, n=4, speed_radii_per_frame=3.0)
+    for method in ("discrete", "ccd"):
+        trajectory = collisim.simulate(collisim.Scene(world=world, fps=60, seconds=2.0, method=method))
+        on_map = trajectory.events.kind == MAP
+        assert on_map.sum() > 0
+        assert trajectory.segment_collisions.sum() >= on_map.sum()
+        if method == "ccd":
+            assert (trajectory.events.j[on_map] >= 0).all() and (trajectory.events.j[on_map] < len(level.segments)).all()
+        # each contact point lies on the outline
+        points = trajectory.events.point[on_map]
+        assert np.abs(level.distance(points)).max() < 2 * CELL
+
+
+def test_a_body_in_the_solid_is_refused(level):
+    with pytest.raises(ValueError, match="starts inside the collision map's solid"):
+        collisim.World([[0.5, 0.5]], [[0.0, 0.0]], RADIUS, box=BOX, map=level)
+
+
+def test_a_body_across_the_outline_is_refused(level):
+    tip = star_container()[0]   # (7.7, 4.0): the point of the star on the right
+    with pytest.raises(ValueError, match="collision map"):
+        collisim.World([tip - [0.05, 0.0]], [[0.0, 0.0]], RADIUS, box=BOX, map=level)
+
+
+def test_map_must_be_a_collision_map():
+    with pytest.raises(ValueError, match="map must be a collisim.CollisionMap"):
+        collisim.World([[1.0, 1.0]], map="level.png")
+
+
+def test_resting_on_the_map_floor_under_gravity(level):
+    """A ball dropped with e = 0 into the star's lowest point comes to rest there: no sinking,
+    no jitter."""
+    world = collisim.World([[4.0, 4.0]], [[0.0, 0.0]], RADIUS, box=BOX, map=level, gravity=(0.0, -9.8),
+                           restitution=0.0)
+    trajectory = collisim.simulate(collisim.Scene(world=world, fps=60, seconds=6.0, substeps=2))
+    late = trajectory.positions[-60:, 0]
+    assert np.ptp(late, axis=0).max() < 1e-3
+    assert level.distance(late).min() > RADIUS - 2 * CELL
