@@ -103,3 +103,29 @@ def test_resting_on_the_map_floor_under_gravity(level):
     late = trajectory.positions[-60:, 0]
     assert np.ptp(late, axis=0).max() < 1e-3
     assert level.distance(late).min() > RADIUS - 2 * CELL
+
+
+def test_a_trajectory_file_keeps_its_map(level, tmp_path):
+    world = fast_world(level, n=3, speed_radii_per_frame=1.0)
+    trajectory = collisim.simulate(collisim.Scene(world=world, fps=60, seconds=0.2))
+    loaded = collisim.load_trajectory(trajectory.save(tmp_path / "run.npz"))
+    assert loaded.world.map is not None
+    for name, value in level.to_arrays().items():
+        assert np.array_equal(value, loaded.world.map.to_arrays()[name]), name
+    np.testing.assert_array_equal(loaded.positions, trajectory.positions)
+
+
+def test_the_maps_bench_error_falls_as_cells_get_finer():
+    """`collisim bench maps`' level, measured as the bench does: distance and normal errors
+    against the exact shapes shrink with resolution."""
+    from collisim.analysis.bench import maps
+    points = maps.probe_points(1000)
+    exact, normals = maps.exact_distance(points)
+    errors = []
+    for k in (1.0, 4.0):
+        m = maps.level_map(k)
+        angle = np.degrees(np.arccos(np.clip(np.einsum("pk,pk->p", m.normal(points), normals), -1, 1)))
+        errors.append((np.abs(m.distance(points) - exact).mean(), np.median(angle)))
+    (coarse_d, coarse_a), (fine_d, fine_a) = errors
+    assert fine_d < 0.5 * coarse_d
+    assert fine_a < coarse_a

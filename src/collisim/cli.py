@@ -113,7 +113,12 @@ def add_bench_parser(commands) -> None:
     segments.add_argument("--bodies", type=int, default=18_000)
     segments.add_argument("--segments", type=int, default=2_000)
     segments.add_argument("--repeats", type=int, default=3)
-    for parser in (broad, render, accuracy, segments):
+    maps = kinds.add_parser("maps", help="a collision map's accuracy against its resolution (0.5 to 16 cells "
+                                         "per particle radius) against the exact level")
+    maps.add_argument("--cells", type=float, nargs="+", default=[0.5, 1, 2, 4, 8, 16],
+                      help="map cells per particle radius")
+    maps.add_argument("--seconds", type=float, default=1.0, help="simulated time per measurement")
+    for parser in (broad, render, accuracy, segments, maps):
         parser.add_argument("--out", type=Path, default=Path("renders/bench"), help="folder for CSV and PNG")
         parser.add_argument("--no-progress", action="store_true")
 
@@ -251,6 +256,15 @@ def cmd_bench(args) -> int:
         f = run(args.out, n=args.bodies, m=args.segments, repeats=args.repeats)
         print(f"{f['bodies']} bodies: {1e3 * f['seconds_per_frame_without']:.2f} ms a frame; with {f['segments']} "
               f"segments {1e3 * f['seconds_per_frame_with']:.2f} ms ({f['ratio']:.2f} x); wrote {f['json']}")
+    elif args.kind == "maps":
+        from .analysis.bench.maps import HEADER, run
+        _check_positive_seconds(args.seconds)
+        if not all(0 < k <= 64 for k in args.cells):
+            raise ValueError("cells per radius must be in (0, 64]")
+        if not args.no_progress:
+            print(HEADER)
+        figures = run(args.out, cells=args.cells, seconds=args.seconds, progress=not args.no_progress)
+        print(f"wrote {figures['csv']} and {figures['png']}")
     elif args.kind == "render":
         from .analysis.bench.render import run
         _check_positive_seconds(args.seconds)

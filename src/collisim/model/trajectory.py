@@ -133,6 +133,8 @@ class Trajectory:
         arrays = {f"frame_{name}": getattr(self, name) for name in _FRAME_FIELDS}
         arrays.update({f"event_{name}": getattr(self.events, name) for name in _EVENT_FIELDS})
         arrays.update({f"world_{name}": getattr(self.world, name) for name in _WORLD_FIELDS})
+        if self.world.map is not None:
+            arrays.update({f"map_{name}": value for name, value in self.world.map.to_arrays().items()})
         meta = dict(format=FILE_FORMAT, fps=self.fps, method=self.method, broadphase=self.broadphase,
                     substeps=self.substeps, restitution=self.world.restitution, profile=self.profile,
                     warnings=[str(w) for w in self.warnings])
@@ -171,7 +173,8 @@ def load_trajectory(path) -> Trajectory:
         raise ValueError(f"trajectory file {path} has format version {version}; "
                          f"this collisim reads version {FILE_FORMAT}")
     try:
-        world = World(**{name: arrays[f"world_{name}"] for name in _WORLD_FIELDS}, restitution=meta["restitution"])
+        world = World(**{name: arrays[f"world_{name}"] for name in _WORLD_FIELDS}, restitution=meta["restitution"],
+                      map=_embedded_map(arrays, path))
         events = Events(*(arrays[f"event_{name}"] for name in _EVENT_FIELDS))
         frames = {name: arrays[f"frame_{name}"] for name in _FRAME_FIELDS}
         return Trajectory(**frames, world=world, fps=float(meta["fps"]), events=events, method=meta["method"],
@@ -179,3 +182,12 @@ def load_trajectory(path) -> Trajectory:
                           warnings=list(meta["warnings"]))
     except KeyError:
         raise ValueError(f"cannot read trajectory {path}: not a collisim trajectory file") from None
+
+
+def _embedded_map(arrays: dict, path):
+    """The collision map saved with the trajectory's world, or None."""
+    fields = {key[len("map_"):]: value for key, value in arrays.items() if key.startswith("map_")}
+    if not fields:
+        return None
+    from ..statics.collision_map import CollisionMap
+    return CollisionMap.from_arrays(fields, path)

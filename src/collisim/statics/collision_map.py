@@ -123,13 +123,17 @@ class CollisionMap:
         flat; (2,) for one point (2,)."""
         return self.sample(points)[1]
 
+    def to_arrays(self) -> dict:
+        """The map as the named arrays of its file (a trajectory file embeds them too)."""
+        offsets = np.concatenate([[0], np.cumsum([len(chain) for chain in self.chains])]).astype(np.int64)
+        return dict(map_format=np.array(MAP_FORMAT, np.int64), solid=self.solid, distance=self.distance_grid,
+                    cell=np.array(self.cell), origin=self.origin, segments=self.segments,
+                    chain_vertices=np.concatenate(self.chains).reshape(-1, 2), chain_offsets=offsets)
+
     def save(self, path) -> Path:
         """Write the map to a versioned .npz file (under a temporary name, renamed when complete)."""
         path = Path(path)
-        offsets = np.concatenate([[0], np.cumsum([len(chain) for chain in self.chains])]).astype(np.int64)
-        arrays = dict(map_format=np.array(MAP_FORMAT, np.int64), solid=self.solid, distance=self.distance_grid,
-                      cell=np.array(self.cell), origin=self.origin, segments=self.segments,
-                      chain_vertices=np.concatenate(self.chains).reshape(-1, 2), chain_offsets=offsets)
+        arrays = self.to_arrays()
         try:
             temporary = temporary_beside(path, ".npz")
         except OSError as error:
@@ -151,7 +155,11 @@ class CollisionMap:
         """Read a file written by save: the same arrays, byte for byte. A missing, broken or
         foreign file, or one of another format version, raises ValueError with one line."""
         path = Path(path)
-        arrays = _read_npz(path)
+        return cls.from_arrays(_read_npz(path), path)
+
+    @classmethod
+    def from_arrays(cls, arrays: dict, path) -> "CollisionMap":
+        """The map whose arrays (to_arrays) were read from `path` (named in errors)."""
         version = arrays.get("map_format")
         if version is None:
             raise ValueError(f"cannot read collision map {path}: not a collisim collision map file")
