@@ -9,8 +9,10 @@ from .model.scenefile import load_scene
 from .narrowphase import contacts
 from .notebook import show
 from .pipeline import render
+from .queries import RayHit, RayHits, raycast, raycast_many
 from .statics.collision_map import CollisionMap
 
 __version__ = "0.1.0"
 __all__ = ["World", "Scene", "Panel", "RenderSettings", "Trajectory", "Events", "simulate", "stream", "render",
-           "load_scene", "load_trajectory", "contacts", "show", "CollisionMap"]
+           "load_scene", "load_trajectory", "contacts", "show", "CollisionMap",
+           "raycast", "raycast_many", "RayHit", "RayHits"]

@@ -118,7 +118,11 @@ def add_bench_parser(commands) -> None:
     maps.add_argument("--cells", type=float, nargs="+", default=[0.5, 1, 2, 4, 8, 16],
                       help="map cells per particle radius")
     maps.add_argument("--seconds", type=float, default=1.0, help="simulated time per measurement")
-    for parser in (broad, render, accuracy, segments, maps):
+    rays = kinds.add_parser("rays", help="ray queries into the 250-particle gas: ns per ray for each broad phase "
+                                         "against pymunk's segment_query_first, in the same run")
+    rays.add_argument("--rays", type=int, default=100_000, help="rays cast per measurement")
+    rays.add_argument("--repeats", type=int, default=3)
+    for parser in (broad, render, accuracy, segments, maps, rays):
         parser.add_argument("--out", type=Path, default=Path("renders/bench"), help="folder for CSV and PNG")
         parser.add_argument("--no-progress", action="store_true")
 
@@ -265,6 +269,11 @@ def cmd_bench(args) -> int:
             print(HEADER)
         figures = run(args.out, cells=args.cells, seconds=args.seconds, progress=not args.no_progress)
         print(f"wrote {figures['csv']} and {figures['png']}")
+    elif args.kind == "rays":
+        from .analysis.bench.rays import bench_rays, format_rays
+        if args.rays < 1 or args.repeats < 1:
+            raise ValueError("rays and repeats must be >= 1")
+        print(format_rays(bench_rays(count=args.rays, repeats=args.repeats)))
     elif args.kind == "render":
         from .analysis.bench.render import run
         _check_positive_seconds(args.seconds)
