@@ -129,3 +129,21 @@ def test_the_maps_bench_error_falls_as_cells_get_finer():
     (coarse_d, coarse_a), (fine_d, fine_a) = errors
     assert fine_d < 0.5 * coarse_d
     assert fine_a < coarse_a
+
+
+def test_rays_hit_a_real_map_on_its_outline(level):
+    """Rays from inside the level stop on the map's exact outline: the first crossing of the
+    ray with the chains, found independently by shapely, with kind "map"."""
+    from shapely.geometry import LineString, MultiLineString, Point
+    outline = MultiLineString([[(x0, y0), (x1, y1)] for x0, y0, x1, y1 in level.segments])
+    world = collisim.World(np.empty((0, 2)), np.empty((0, 2)), RADIUS, box=BOX, map=level)
+    rng = np.random.default_rng(3)
+    origins = 4.0 + rng.uniform(-1.5, 1.5, (200, 2))
+    angles = rng.uniform(0.0, 2.0 * np.pi, 200)
+    directions = np.column_stack([np.cos(angles), np.sin(angles)])
+    hits = collisim.raycast_many(world, origins, directions, 20.0)
+    assert (np.array(hits.KIND_NAMES)[hits.kinds] == "map").all()
+    for o, d, distance in zip(origins, directions, hits.distance):
+        crossing = LineString([o, o + 20.0 * d]).intersection(outline)
+        expected = min(Point(o).distance(Point(p)) for p in getattr(crossing, "geoms", [crossing]))
+        assert distance == pytest.approx(expected, abs=1e-9)
