@@ -37,6 +37,7 @@ class RenderSettings:
     overlay: Optional[Callable] = None
     layout: Optional[tuple] = None  # (rows, cols) of panels; by default up to three in a row
     counters: dict = field(default_factory=dict)
+    explainer: Optional[object] = None   # render.explain.Explainer: captions, formulas, arrows, marks
 
 
 @dataclass

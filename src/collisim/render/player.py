@@ -17,7 +17,7 @@ import numpy as np
 from .. import palette
 from ..model.scene import RenderSettings
 from ..model.trajectory import Events, approximate_summary
-from . import raster
+from . import explain, raster
 from .hud import draw_hud, hud_lines
 from .view import View
 
@@ -79,7 +79,15 @@ class PanelPlayer:
         self._blocks = source.blocks()
         self._block = next(self._blocks)
         self.world = self._block.world
-        self.view = View(self.world.box, (left, top + title_height, width, height - title_height - hud_height))
+        # an explainer's caption strips sit above and below the simulation, never over it
+        self.unit = explain.panel_unit(height)
+        top_lines, bottom_lines = self.settings.explainer.strips() if self.settings.explainer else (0, 0)
+        top_h = top_lines * explain.line_height(self.unit)
+        bottom_h = bottom_lines * explain.line_height(self.unit)
+        self.strips = {"top": (left, top + title_height, width, top_h),
+                       "bottom": (left, top + height - hud_height - bottom_h, width, bottom_h)}
+        self.view = View(self.world.box, (left, top + title_height + top_h, width,
+                                          height - title_height - top_h - bottom_h - hud_height))
         self.text_scale = max(0.38, min(0.55, width / 1280 * 0.8))
         self._first, self._sample, self._collisions, self.approximate_frames = 0, -1, 0, 0
         self._history = deque(maxlen=max(self.settings.trails, 1))
@@ -147,6 +155,8 @@ class PanelPlayer:
             raster.draw_arrows(canvas, self.view, state.positions, state.velocities, settings.arrow_seconds)
         if settings.overlay is not None:
             settings.overlay(canvas, self.view, state)
+        if settings.explainer is not None:
+            settings.explainer.draw(canvas, self.view, state, world, self.strips, self.unit)
         if settings.hud:
             lines = hud_lines(self._block, self.source.frames, state, compact=self.rect[2] < 800)
             draw_hud(canvas, self.content, lines, self.text_scale)

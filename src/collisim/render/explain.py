@@ -1,0 +1,263 @@
+"""The explainer layer: captions, typeset formulas, arrows and numbered particles that appear and
+fade on a panel's timeline, for scenes that teach.
+
+A scene asks for it with `RenderSettings(explainer=Explainer([...]))`. Its items:
+
+* `Caption(text, start, end, strip="bottom", line=0)`: a line in a strip above or below the
+  simulation, never over it. Text between dollar signs is typeset as math by matplotlib's
+  mathtext (no TeX install needed): "the update $p \\leftarrow p + v\\,\\Delta t$".
+* `Arrow(tail, head, start, end, label="")`: an arrow in world units; tail and head are points
+  or functions of the frame's state (FrameState), so an arrow can follow a body.
+* `Mark(bodies, start, end, labels=None)`: numbers bodies (or labels them) beside them, with a
+  ring, so a caption can name "particle 2".
+* `Note(text, at, start, end)`: a short label next to a world point (or a function of state).
+
+Times are the panel's simulation time in seconds, or functions of the frame's state (so an
+item can wait for an event the engine found); an item fades in and out over `fade` seconds.
+A caption's text may also be a function of the state, for numbers read off the trajectory.
+Sizes follow the panel: text, lines and margins scale with its height, so the same scene reads
+at 854x480 and at 4K. Each draw records the rectangles it filled (`drawn`: (kind, rect,
+bound)), so a test can check that no text leaves its strip or panel.
+"""
+from __future__ import annotations
+
+import io
+import math
+from dataclasses import dataclass, field
+from functools import lru_cache
+from typing import Callable, Optional, Union
+
+import cv2
+import numpy as np
+
+from .. import palette
+from . import raster
+
+Point = Union[tuple, np.ndarray, Callable]
+BASE_HEIGHT = 480.0        # a panel this tall draws text at its base size
+CAPTION_PIXELS = 17.0      # caption text height at the base size
+NOTE_PIXELS = 14.0
+
+
+@dataclass
+class Caption:
+    text: Union[str, Callable]
+    start: float = 0.0
+    end: float = math.inf
+    strip: str = "bottom"        # "top" or "bottom"
+    line: int = 0                # 0 is the strip's first line
+
+
+@dataclass
+class Arrow:
+    tail: Point
+    head: Point
+    start: float = 0.0
+    end: float = math.inf
+    label: str = ""
+    color: Optional[tuple] = None
+
+
+@dataclass
+class Mark:
+    bodies: tuple
+    start: float = 0.0
+    end: float = math.inf
+    labels: Optional[tuple] = None   # default: 1, 2, 3, ... in the order given
+
+
+@dataclass
+class Note:
+    text: str
+    at: Point
+    start: float = 0.0
+    end: float = math.inf
+    gap: float = 0.0             # world units between the point and the text, to its right
+
+
+@dataclass
+class Explainer:
+    """Timed items over a panel; `lines` per strip sets the strips' height."""
+    items: list
+    fade: float = 0.25
+    lines: int = 2
+    drawn: list = field(default_factory=list, repr=False)
+    _latched: dict = field(default_factory=dict, repr=False)
+
+    def strips(self) -> tuple:
+        """(top lines, bottom lines) the panel must reserve."""
+        used = {item.strip for item in self.items if isinstance(item, Caption)}
+        return (self.lines if "top" in used else 0, self.lines if "bottom" in used else 0)
+
+    def opacity(self, item, state) -> float:
+        """1 while the item shows, 0 outside, fading in and out over `fade`. An item's start
+        and end are seconds, or functions of the frame's state giving seconds (None: not yet),
+        so an item can wait for what the engine found, e.g. the first bounce in state.events;
+        the first time such a function answers, its answer is kept (state.events holds only
+        the current block's collisions)."""
+        start, end = self._moment(item, "start", state), self._moment(item, "end", state)
+        time = state.time
+        if self.fade <= 0:
+            return float(start <= time <= end)
+        rise = (time - start) / self.fade + 1.0
+        fall = (end - time) / self.fade + 1.0
+        return float(min(max(min(rise, fall), 0.0), 1.0))
+
+    def _moment(self, item, name: str, state) -> float:
+        value = getattr(item, name)
+        if not callable(value):
+            return moment(value, state)
+        key = (id(item), name)
+        if key not in self._latched:
+            found = value(state)
+            if found is None:
+                return math.inf
+            self._latched[key] = float(found)
+        return self._latched[key]
+
+    def draw(self, canvas, view, state, world, strip_rects: dict, unit: float) -> None:
+        """Draw every item visible at state.time. strip_rects: {"top"|"bottom": (x, y, w, h)};
+        unit: the panel's scale (its height / BASE_HEIGHT); world: the panel's World (radii)."""
+        self.drawn = []
+        for item in self.items:
+            alpha = self.opacity(item, state)
+            if alpha <= 0.0:
+                continue
+            if isinstance(item, Caption):
+                self._caption(canvas, state, item, strip_rects[item.strip], unit, alpha)
+            elif isinstance(item, Arrow):
+                self._arrow(canvas, view, state, item, unit, alpha)
+            elif isinstance(item, Mark):
+                self._mark(canvas, view, state, world.radii, item, unit, alpha)
+            elif isinstance(item, Note):
+                self._note(canvas, view, state, item.text, resolve(item.at, state), unit, alpha, item.gap, dot=True)
+
+    def _caption(self, canvas, state, item, rect, unit, alpha):
+        x, y, w, h = rect
+        line_height = h / self.lines
+        text = item.text(state) if callable(item.text) else item.text
+        image = fit_width(text_image(text, CAPTION_PIXELS * unit), w - 2 * margin(unit))
+        top = int(round(y + item.line * line_height + 0.5 * (line_height - image.shape[0])))
+        left = int(round(x + margin(unit)))
+        self.drawn.append(("caption", paste(canvas, image, left, top, palette.TEXT, alpha), rect))
+
+    def _arrow(self, canvas, view, state, item, unit, alpha):
+        tail, head = view.to_pixels(resolve(item.tail, state)), view.to_pixels(resolve(item.head, state))
+        color = item.color or palette.HIGHLIGHT
+        layer = canvas.copy()
+        cv2.arrowedLine(layer, tuple(raster.fixed(tail).tolist()), tuple(raster.fixed(head).tolist()),
+                        raster.bgr(color), thickness(unit), cv2.LINE_AA, raster.SHIFT,
+                        tipLength=min(0.3, 12.0 * unit / max(np.hypot(*(head - tail)), 1.0)))
+        blend(canvas, layer, alpha)
+        if item.label:
+            self._note(canvas, view, state, item.label, resolve(item.head, state), unit, alpha)
+
+    def _mark(self, canvas, view, state, radii, item, unit, alpha):
+        labels = item.labels or tuple(str(k + 1) for k in range(len(item.bodies)))
+        for body, label in zip(item.bodies, labels):
+            centre = view.to_pixels(state.positions[body])
+            radius = float(view.length(radii[body]))
+            layer = canvas.copy()
+            raster.draw_rings(layer, centre[None], [radius + 3.0 * unit], palette.HIGHLIGHT, thickness(unit))
+            blend(canvas, layer, alpha)
+            image = text_image(label, NOTE_PIXELS * unit)
+            offset = (radius + 4.0 * unit) / math.sqrt(2.0)   # up and to the right, beside the body
+            left, top = int(round(centre[0] + offset)), int(round(centre[1] - offset - image.shape[0]))
+            self.drawn.append(("mark", paste(canvas, image, left, top, palette.HIGHLIGHT, alpha), view.rect))
+
+    def _note(self, canvas, view, state, text, at, unit, alpha, gap=0.0, dot=False):
+        """Text to the right of a world point, `gap` world units away, centred on its height;
+        with `dot`, the point itself is marked."""
+        x, y = view.to_pixels(at)
+        if dot:
+            layer = canvas.copy()
+            cv2.circle(layer, (int(round(x)), int(round(y))), max(2, int(round(3 * unit))),
+                       raster.bgr(palette.HIGHLIGHT), -1, cv2.LINE_AA)
+            blend(canvas, layer, alpha)
+        image = text_image(text, NOTE_PIXELS * unit)
+        left = int(round(x + float(view.length(gap)) + 6 * unit))
+        top = int(round(y - 0.5 * image.shape[0]))
+        self.drawn.append(("note", paste(canvas, image, left, top, palette.TEXT, alpha), view.rect))
+
+
+def moment(value, state) -> float:
+    """A time in seconds, or a function of the frame's state giving one (None: never yet)."""
+    if callable(value):
+        value = value(state)
+    return math.inf if value is None else float(value)
+
+
+def resolve(point: Point, state) -> np.ndarray:
+    """A world point, or a function of the frame's state that gives one."""
+    return np.asarray(point(state) if callable(point) else point, dtype=np.float64)
+
+
+def panel_unit(height: float) -> float:
+    """The scale of a panel `height` pixels tall: 1 at BASE_HEIGHT, never below 0.75 (text
+    smaller than that stops being readable)."""
+    return max(0.75, height / BASE_HEIGHT)
+
+
+def line_height(unit: float) -> float:
+    """Height of one caption line in a strip."""
+    return math.ceil(1.7 * CAPTION_PIXELS * unit)
+
+
+def margin(unit: float) -> float:
+    return 10.0 * unit
+
+
+def thickness(unit: float) -> int:
+    return max(1, int(round(1.6 * unit)))
+
+
+@lru_cache(maxsize=512)
+def text_image(text: str, pixels: float) -> np.ndarray:
+    """The coverage (h, w) float32 in [0, 1] of `text` typeset by mathtext at about `pixels`
+    tall, cached: a caption is typeset once, not every frame."""
+    from matplotlib import mathtext
+    from matplotlib.font_manager import FontProperties
+    buffer = io.BytesIO()
+    size = max(4.0, round(pixels * 2.0) / 2.0)   # half-pixel steps keep the cache small
+    mathtext.math_to_image(text, buffer, prop=FontProperties(size=size), dpi=72, format="png")
+    # black text on an opaque white ground: darkness is coverage
+    image = cv2.imdecode(np.frombuffer(buffer.getvalue(), np.uint8), cv2.IMREAD_GRAYSCALE)
+    return (255 - image).astype(np.float32) / 255.0
+
+
+def fit_width(image: np.ndarray, width: float) -> np.ndarray:
+    """Shrink text that would not fit its strip (a long caption in a narrow panel)."""
+    if image.shape[1] <= width or width < 8:
+        return image
+    scale = width / image.shape[1]
+    size = (max(1, int(width)), max(1, int(image.shape[0] * scale)))
+    return cv2.resize(image, size, interpolation=cv2.INTER_AREA)
+
+
+def paste(canvas, coverage: np.ndarray, left: int, top: int, color_rgb, alpha: float) -> tuple:
+    """Paint `color_rgb` through `coverage` (h, w) at (left, top), clipped to the canvas.
+    Returns the rectangle (x, y, w, h) of the text, unclipped (for the tests' bounds check)."""
+    h, w = coverage.shape
+    x0, y0 = max(left, 0), max(top, 0)
+    x1, y1 = min(left + w, canvas.shape[1]), min(top + h, canvas.shape[0])
+    if x1 > x0 and y1 > y0:
+        weight = alpha * coverage[y0 - top:y1 - top, x0 - left:x1 - left, None]
+        region = canvas[y0:y1, x0:x1].astype(np.float32)
+        color = np.array(raster.bgr(color_rgb), np.float32)
+        canvas[y0:y1, x0:x1] = (region + weight * (color - region) + 0.5).astype(np.uint8)
+    return (left, top, w, h)
+
+
+def blend(canvas, layer, alpha: float) -> None:
+    """canvas <- layer where it differs, weighted by alpha (a fading line or ring)."""
+    if alpha >= 1.0:
+        np.copyto(canvas, layer)
+    else:
+        cv2.addWeighted(layer, alpha, canvas, 1.0 - alpha, 0.0, dst=canvas)
+
+
+def inside(rect: tuple, bound: tuple) -> bool:
+    """Is rect (x, y, w, h) within bound (x, y, w, h)?"""
+    x, y, w, h = rect
+    bx, by, bw, bh = bound
+    return x >= bx and y >= by and x + w <= bx + bw and y + h <= by + bh

@@ -1,0 +1,67 @@
+"""The explainer layer: captions stay in their strips and notes in their panel at every size,
+items appear and fade on time, and an item can wait for an event the engine found."""
+import math
+
+import numpy as np
+import pytest
+
+import collisim
+from collisim.render import explain
+from collisim.render.explain import Caption, Explainer, Note
+
+
+def key_frames(scene, quality, count=6):
+    """`count` video frames spread over the render at that quality."""
+    frames = collisim.pipeline.plan(scene, quality=quality).frames
+    return np.linspace(0, frames - 1, count).astype(int)
+
+
+@pytest.mark.parametrize("quality", ["l", "h"])
+def test_single_bounce_text_stays_in_its_strips_and_panel(quality, tmp_path):
+    scene = collisim.load_scene("single_bounce")
+    explainer = scene.render.explainer
+    seen = set()
+    for frame in key_frames(scene, quality, 8):
+        collisim.render(scene, tmp_path / "f.png", quality=quality, png_frame=int(frame))
+        for kind, rect, bound in explainer.drawn:
+            assert explain.inside(rect, bound), (quality, frame, kind, rect, bound)
+            seen.add(kind)
+    assert {"caption", "note"} <= seen
+
+
+def test_text_grows_with_the_frame():
+    small, large = explain.text_image("p = v t", 17.0), explain.text_image("p = v t", 17.0 * 2.25)
+    assert 2.0 < large.shape[0] / small.shape[0] < 2.5
+    assert 0.0 < small.max() <= 1.0
+
+
+def test_items_fade_in_and_out_on_the_timeline():
+    item = Caption("x", 1.0, 2.0)
+    layer = Explainer([item], fade=0.5)
+
+    class State:
+        events = None
+    state = State()
+    for time, expected in ((0.4, 0.0), (0.75, 0.5), (1.0, 1.0), (1.5, 1.0), (2.25, 0.5), (2.6, 0.0)):
+        state.time = time
+        assert layer.opacity(item, state) == pytest.approx(expected)
+
+
+def test_an_item_can_wait_for_an_event_and_keeps_its_moment():
+    answers = iter([None, None, 3.0, None])
+    item = Note("bounce", (0.0, 0.0), start=lambda state: next(answers))
+    layer = Explainer([item], fade=0.0)
+
+    class State:
+        time = 5.0
+    assert layer.opacity(item, State()) == 0.0      # not yet
+    assert layer.opacity(item, State()) == 0.0
+    assert layer.opacity(item, State()) == 1.0      # the event happened at 3.0
+    assert layer.opacity(item, State()) == 1.0      # and stays known in later blocks
+
+
+def test_a_long_caption_shrinks_to_its_strip():
+    image = explain.text_image("a rather long caption " * 6, 17.0)
+    fitted = explain.fit_width(image, 200)
+    assert fitted.shape[1] <= 200 and fitted.shape[0] < image.shape[0]
+    assert math.isclose(fitted.shape[0] / image.shape[0], 200 / image.shape[1], rel_tol=0.1)
