@@ -16,9 +16,10 @@ def key_frames(scene, quality, count=6):
     return np.linspace(0, frames - 1, count).astype(int)
 
 
+@pytest.mark.parametrize("name", ["single_bounce", "two_bodies", "teacher_drop"])
 @pytest.mark.parametrize("quality", ["l", "h"])
-def test_single_bounce_text_stays_in_its_strips_and_panel(quality, tmp_path):
-    scene = collisim.load_scene("single_bounce")
+def test_explained_scenes_keep_text_in_its_strips_and_panel(name, quality, tmp_path):
+    scene = collisim.load_scene(name)
     explainer = scene.render.explainer
     seen = set()
     for frame in key_frames(scene, quality, 8):
@@ -26,7 +27,7 @@ def test_single_bounce_text_stays_in_its_strips_and_panel(quality, tmp_path):
         for kind, rect, bound in explainer.drawn:
             assert explain.inside(rect, bound), (quality, frame, kind, rect, bound)
             seen.add(kind)
-    assert {"caption", "note"} <= seen
+    assert "caption" in seen
 
 
 def test_text_grows_with_the_frame():
@@ -65,3 +66,21 @@ def test_a_long_caption_shrinks_to_its_strip():
     fitted = explain.fit_width(image, 200)
     assert fitted.shape[1] <= 200 and fitted.shape[0] < image.shape[0]
     assert math.isclose(fitted.shape[0] / image.shape[0], 200 / image.shape[1], rel_tol=0.1)
+
+
+def test_pace_maps_video_time_to_simulation_time_and_back():
+    from collisim.render.pace import Freeze, Pace, Slow
+    pace = Pace(Slow(1.0, 2.0, 0.25), Freeze(3.0, 2.0))
+    assert pace.extra == pytest.approx(3.0 + 2.0)
+    expected = {0.5: 0.5, 1.0: 1.0, 3.0: 1.5, 5.0: 2.0, 6.0: 3.0, 7.0: 3.0, 8.0: 3.0, 9.0: 4.0}
+    for video, sim in expected.items():
+        assert pace.simulation_time(video) == pytest.approx(sim)
+    assert pace.video_time(3.0) == pytest.approx(6.0)     # a freeze starts where its moment is first shown
+    with pytest.raises(ValueError, match="overlaps"):
+        Pace(Slow(1.0, 2.0, 0.5), Freeze(1.5, 1.0))
+
+
+def test_a_paced_scene_plays_longer_and_holds_its_frozen_sample():
+    scene = collisim.load_scene("two_bodies")
+    job = collisim.pipeline.plan(scene, quality="l")
+    assert job.frames == round((scene.seconds + scene.render.pace.extra) * 15)

@@ -49,14 +49,25 @@ def scene_chapters(scene: Scene, fps: float | None = None) -> list:
         return [chapter for part in scene.chapters for chapter in scene_chapters(part, fps)]
     panels = [(p.scene, p.title) for p in scene.panels] or [(scene, "")]
     sources = [PanelSource(lambda s=s: stream(s), s.render, title, s.frames, s.fps) for s, title in panels]
-    return [Chapter(sources, video_frames(scene.seconds, fps), scene.render.layout)]
+    return [Chapter(sources, video_frames(video_seconds(scene), fps), scene.render.layout)]
+
+
+def video_seconds(scene: Scene) -> float:
+    """How long a scene plays: its seconds, plus what slow motion and freezes add (the longest
+    panel's, for panels). A scene of chapters gives the whole video's length itself."""
+    if scene.chapters:
+        return scene.seconds
+    if scene.panels:
+        return max([scene.seconds] + [video_seconds(p.scene) for p in scene.panels])
+    return scene.seconds + (scene.render.pace.extra if scene.render.pace is not None else 0.0)
 
 
 def trajectory_chapters(panels: list, settings: RenderSettings, layout=None, fps: float | None = None) -> list:
     """One chapter of (title, Trajectory) panels, as long as the longest at the video's `fps`
     (default: the first trajectory's)."""
     fps = panels[0][1].fps if fps is None else fps
-    frames = max(video_frames(t.frames / t.fps, fps) for _, t in panels)
+    extra = settings.pace.extra if settings.pace is not None else 0.0
+    frames = max(video_frames(t.frames / t.fps + extra, fps) for _, t in panels)
     sources = [PanelSource(lambda t=t: iter([t]), settings, title, t.frames, t.fps) for title, t in panels]
     return [Chapter(sources, frames, layout)]
 
@@ -84,7 +95,7 @@ def plan(source, size=None, *, fps=None, quality=None, settings: RenderSettings 
     if isinstance(source, Scene):
         base, own_fps, name = source.render.size, source.fps, name or source.name
         rate = video_fps(own_fps, fps, quality)
-        chapters, frames = scene_chapters(source, rate), video_frames(source.seconds, rate)
+        chapters, frames = scene_chapters(source, rate), video_frames(video_seconds(source), rate)
     else:
         panels = [("", source)] if isinstance(source, Trajectory) else list(source)
         if not panels or not all(isinstance(t, Trajectory) for _, t in panels):

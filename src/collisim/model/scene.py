@@ -38,6 +38,7 @@ class RenderSettings:
     layout: Optional[tuple] = None  # (rows, cols) of panels; by default up to three in a row
     counters: dict = field(default_factory=dict)
     explainer: Optional[object] = None   # render.explain.Explainer: captions, formulas, arrows, marks
+    pace: Optional[object] = None        # render.pace.Pace: slow motion and freeze frames
 
 
 @dataclass

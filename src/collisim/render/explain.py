@@ -56,6 +56,7 @@ class Arrow:
     end: float = math.inf
     label: str = ""
     color: Optional[tuple] = None
+    label_gap: float = 0.0       # world units between the head and its label, to the right
 
 
 @dataclass
@@ -81,6 +82,7 @@ class Explainer:
     items: list
     fade: float = 0.25
     lines: int = 2
+    clock: str = "simulation"    # items' times in "simulation" seconds, or "video" seconds (freezes)
     drawn: list = field(default_factory=list, repr=False)
     _latched: dict = field(default_factory=dict, repr=False)
 
@@ -96,7 +98,7 @@ class Explainer:
         the first time such a function answers, its answer is kept (state.events holds only
         the current block's collisions)."""
         start, end = self._moment(item, "start", state), self._moment(item, "end", state)
-        time = state.time
+        time = state.clock if self.clock == "video" else state.time
         if self.fade <= 0:
             return float(start <= time <= end)
         rise = (time - start) / self.fade + 1.0
@@ -136,6 +138,8 @@ class Explainer:
         x, y, w, h = rect
         line_height = h / self.lines
         text = item.text(state) if callable(item.text) else item.text
+        if not text:
+            return
         image = fit_width(text_image(text, CAPTION_PIXELS * unit), w - 2 * margin(unit))
         top = int(round(y + item.line * line_height + 0.5 * (line_height - image.shape[0])))
         left = int(round(x + margin(unit)))
@@ -150,19 +154,22 @@ class Explainer:
                         tipLength=min(0.3, 12.0 * unit / max(np.hypot(*(head - tail)), 1.0)))
         blend(canvas, layer, alpha)
         if item.label:
-            self._note(canvas, view, state, item.label, resolve(item.head, state), unit, alpha)
+            self._note(canvas, view, state, item.label, resolve(item.head, state), unit, alpha, item.label_gap)
 
     def _mark(self, canvas, view, state, radii, item, unit, alpha):
         labels = item.labels or tuple(str(k + 1) for k in range(len(item.bodies)))
+        middle = view.to_pixels(state.positions[list(item.bodies)].mean(axis=0))
         for body, label in zip(item.bodies, labels):
             centre = view.to_pixels(state.positions[body])
             radius = float(view.length(radii[body]))
+            away = np.sign(centre[0] - middle[0]) or 1.0   # beside the body, on the side away from the others
             layer = canvas.copy()
             raster.draw_rings(layer, centre[None], [radius + 3.0 * unit], palette.HIGHLIGHT, thickness(unit))
             blend(canvas, layer, alpha)
             image = text_image(label, NOTE_PIXELS * unit)
-            offset = (radius + 4.0 * unit) / math.sqrt(2.0)   # up and to the right, beside the body
-            left, top = int(round(centre[0] + offset)), int(round(centre[1] - offset - image.shape[0]))
+            offset = (radius + 4.0 * unit) / math.sqrt(2.0)   # up, and left or right, beside the body
+            left = int(round(centre[0] + offset if away > 0 else centre[0] - offset - image.shape[1]))
+            top = int(round(centre[1] - offset - image.shape[0]))
             self.drawn.append(("mark", paste(canvas, image, left, top, palette.HIGHLIGHT, alpha), view.rect))
 
     def _note(self, canvas, view, state, text, at, unit, alpha, gap=0.0, dot=False):
@@ -192,10 +199,17 @@ def resolve(point: Point, state) -> np.ndarray:
     return np.asarray(point(state) if callable(point) else point, dtype=np.float64)
 
 
-def panel_unit(height: float) -> float:
-    """The scale of a panel `height` pixels tall: 1 at BASE_HEIGHT, never below 0.75 (text
-    smaller than that stops being readable)."""
-    return max(0.75, height / BASE_HEIGHT)
+STRIPS_SHARE = 0.4         # caption strips take at most this share of a panel's height
+
+
+def panel_unit(height: float, room: float = math.inf, lines: int = 0) -> float:
+    """The scale of a panel `height` pixels tall: 1 at BASE_HEIGHT, not below 0.75 (smaller text
+    stops being readable) unless its `lines` caption lines would then take more than
+    STRIPS_SHARE of the `room` between its title and HUD (a thumbnail-sized render)."""
+    unit = max(0.75, height / BASE_HEIGHT)
+    if lines and lines * line_height(unit) > STRIPS_SHARE * room:
+        unit = max(STRIPS_SHARE * room / lines / (1.7 * CAPTION_PIXELS), 0.05)
+    return unit
 
 
 def line_height(unit: float) -> float:

@@ -45,6 +45,7 @@ class FrameState:
     approximate_frames: int
     events: Events
     counters: dict = field(default_factory=dict)
+    clock: float = 0.0   # seconds of video into the panel (differs from time in slow motion and freezes)
 
 
 @dataclass
@@ -80,8 +81,9 @@ class PanelPlayer:
         self._block = next(self._blocks)
         self.world = self._block.world
         # an explainer's caption strips sit above and below the simulation, never over it
-        self.unit = explain.panel_unit(height)
         top_lines, bottom_lines = self.settings.explainer.strips() if self.settings.explainer else (0, 0)
+        room = height - title_height - hud_height
+        self.unit = explain.panel_unit(height, room, top_lines + bottom_lines)
         top_h = top_lines * explain.line_height(self.unit)
         bottom_h = bottom_lines * explain.line_height(self.unit)
         self.strips = {"top": (left, top + title_height, width, top_h),
@@ -94,6 +96,7 @@ class PanelPlayer:
         self._recent = [self._block.events]
         self._counters = dict.fromkeys(self.settings.counters, 0)
         self.state = None
+        self.pace, self.clock = self.settings.pace, 0.0   # render/pace.py: slow motion, freezes
         self._map_coverage = None   # the map's pixels on the canvas, computed at the first draw
 
     @property
@@ -107,7 +110,10 @@ class PanelPlayer:
     def advance(self, video_frame: int) -> None:
         """Move to the sample shown at this video frame (never backwards), visiting every
         sample on the way so trails, counts and counters build up."""
-        target = min(int(math.floor(video_frame * self.source.fps / self.video_fps + 1e-9)), self.source.frames)
+        clock = video_frame / self.video_fps
+        shown = self.pace.simulation_time(clock) if self.pace is not None else clock
+        target = min(int(math.floor(shown * self.source.fps + 1e-9)), self.source.frames)
+        self.clock = clock
         while self._sample < target:
             self._sample += 1
             row = self._row(self._sample)
@@ -156,6 +162,7 @@ class PanelPlayer:
         if settings.overlay is not None:
             settings.overlay(canvas, self.view, state)
         if settings.explainer is not None:
+            state.clock = self.clock
             settings.explainer.draw(canvas, self.view, state, world, self.strips, self.unit)
         if settings.hud:
             lines = hud_lines(self._block, self.source.frames, state, compact=self.rect[2] < 800)
