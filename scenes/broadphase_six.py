@@ -4,7 +4,9 @@ import numpy as np
 import collisim
 from collisim import palette
 from collisim.broadphase import describe, make
+from collisim.model.kinds import PAIR
 from collisim.render import raster
+from collisim.render.explain import Caption, Explainer
 
 TITLES = {"brute": "brute force", "sweep_prune": "sweep and prune", "grid": "uniform grid",
           "kdtree": "kd-tree", "bvh": "bounding volume hierarchy"}
@@ -81,6 +83,17 @@ DRAW = {"sweep_prune": lambda c, v, info, lo, hi: draw_sweep(c, v, info, lo, hi)
         "bvh": lambda c, v, info, lo, hi: draw_bvh(c, v, info)}
 
 
+def plural(count, word):
+    return f"{count} {word}{'' if count == 1 else 's'}"
+
+
+def broad_caption(method, state, total):
+    """The panel's caption, from the engine's own count of this frame's candidates."""
+    if method == "brute":
+        return f"brute force: tests all {total} pairs; {plural(state.candidates, 'pair')} of boxes overlap"
+    return f"{TITLES[method]}: {plural(state.candidates, 'candidate pair')} of {total}"
+
+
 def explainer(method, radii):
     def overlay(canvas, view, state):
         positions = state.positions
@@ -93,14 +106,37 @@ def explainer(method, radii):
         if method == "brute":
             draw_pairs(canvas, view, positions, all_pairs, STRUCTURE, 1)
         draw_pairs(canvas, view, positions, info["pairs"], palette.HIGHLIGHT, 2)
-        x, y = view.to_pixels([BOX[0], BOX[3]])
-        caption = f"{TITLES[method]}: {len(info['pairs'])} candidate pairs of {len(all_pairs)}"
-        raster.draw_text(canvas, caption, (x + 6, y + 18), scale=0.42, color_rgb=palette.TEXT)
-        if method == "grid":  # the grid's trade-off: memory for fewer checks
-            nx, ny = info["shape"]
-            note = f"{nx} x {ny} cells, {phase.stats['memory_bytes']} bytes"
-            raster.draw_text(canvas, note, (x + 6, y + 36), scale=0.38, color_rgb=palette.DIM_TEXT)
     return overlay
+
+
+def grid_note(radii):
+    """The grid's trade-off, memory for fewer checks, for the caption strip."""
+    def text(state):
+        lo, hi = state.positions - radii[:, None], state.positions + radii[:, None]
+        phase = make("grid")
+        nx, ny = phase.describe(lo, hi)["shape"]
+        return f"{nx} x {ny} cells; the cell lists take {phase.stats['memory_bytes']} bytes"
+    return text
+
+
+def captions(method, radii):
+    """The panel's captions, in a strip above the box: the engine's count, and the grid's memory."""
+    items = [Caption(lambda state: broad_caption(method, state, 15), 0.0, None, "top")]
+    if method == "grid":
+        items.append(Caption(grid_note(radii), 0.0, None, "top", 1))
+    return Explainer(items, fade=0.0, lines=2)
+
+
+def touching_now(state):
+    """The pairs the engine found touching in the step that ended at this sample (its PAIR events)."""
+    now = (state.events.kind == PAIR) & (np.abs(state.events.time - state.time) < 1e-9)
+    return np.column_stack([state.events.i[now], state.events.j[now]])
+
+
+def narrow_caption(state):
+    """The engine's counts for this sample: its candidates and the pairs that touched."""
+    return (f"narrow phase: {plural(state.pair_collisions, 'pair')} of "
+            f"{plural(state.candidates, 'candidate')} touched")
 
 
 def narrow_phase(radii):
@@ -108,20 +144,16 @@ def narrow_phase(radii):
     def overlay(canvas, view, state):
         positions = state.positions
         pairs = describe("sweep_prune", positions - radii[:, None], positions + radii[:, None])["pairs"]
-        gap = np.hypot(*(positions[pairs[:, 0]] - positions[pairs[:, 1]]).T) - radii[pairs].sum(axis=1)
-        touching = pairs[gap <= 0]
         draw_pairs(canvas, view, positions, pairs, palette.HIGHLIGHT, 1)
-        draw_pairs(canvas, view, positions, touching, palette.FLASH, 3)
-        x, y = view.to_pixels([BOX[0], BOX[3]])
-        caption = f"narrow phase: {len(touching)} of {len(pairs)} candidates touch"
-        raster.draw_text(canvas, caption, (x + 6, y + 18), scale=0.42, color_rgb=palette.TEXT)
+        draw_pairs(canvas, view, positions, touching_now(state), palette.FLASH, 3)
     return overlay
 
 
 def panel(method):
     positions, velocities, radii = six_particles()
     world = collisim.World(positions=positions, velocities=velocities, radii=radii, box=BOX, colors=COLORS)
-    settings = collisim.RenderSettings(hud=False, flash=True, overlay=explainer(method, radii))
+    settings = collisim.RenderSettings(hud=False, flash=True, overlay=explainer(method, radii),
+                                       explainer=captions(method, radii))
     scene = collisim.Scene(world=world, fps=60, seconds=12.0, broadphase=method, render=settings)
     return collisim.Panel(scene, TITLES[method])
 
@@ -129,7 +161,9 @@ def panel(method):
 def narrow_panel():
     positions, velocities, radii = six_particles()
     world = collisim.World(positions=positions, velocities=velocities, radii=radii, box=BOX, colors=COLORS)
-    settings = collisim.RenderSettings(hud=False, flash=True, overlay=narrow_phase(radii))
+    settings = collisim.RenderSettings(hud=False, flash=True, overlay=narrow_phase(radii),
+                                       explainer=Explainer([Caption(narrow_caption, 0.0, None, "top")], fade=0.0,
+                                                           lines=2))
     return collisim.Panel(collisim.Scene(world=world, fps=60, seconds=12.0, render=settings),
                           "then the narrow phase: exact tests")
 
