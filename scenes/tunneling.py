@@ -5,6 +5,8 @@ import collisim
 from collisim import palette
 from collisim.model.kinds import SEGMENT
 from collisim.render import raster
+from collisim.render.explain import Caption, Explainer, Note
+from collisim.render.pace import Freeze, Pace, Slow
 
 RADIUS = 0.3
 TRAVEL = 6 * RADIUS            # distance a particle moves per frame at 60 fps: six radii
@@ -36,34 +38,50 @@ def head_on_world():
                           colors=colors)
 
 
+class MissedOnce:
+    """Counts each particle (or head-on pair) the first time a method misses its collision:
+    a particle that has tunnelled keeps crossing the barrier every time it comes back, and
+    counting those would measure its speed, not the method. Samples arrive in order (the
+    player visits every one), so remembering who missed is enough."""
+
+    def __init__(self, crossed):
+        self.crossed, self.seen = crossed, set()
+
+    def __call__(self, before, after):
+        new = set(np.flatnonzero(self.crossed(before, after)).tolist()) - self.seen
+        self.seen |= new
+        return len(new)
+
+
 def barrier_crossings(before, after):
-    """Particles whose centre went from one side of the barrier to the other between two
-    samples: each is a collision the method missed."""
-    return int(np.sum(np.sign(before.positions[:, 0] - 5.0) != np.sign(after.positions[:, 0] - 5.0)))
+    """(n,) True for particles whose centre went from one side of the barrier to the other
+    between two samples: a collision the method missed."""
+    return np.sign(before.positions[:, 0] - 5.0) != np.sign(after.positions[:, 0] - 5.0)
 
 
 def pair_swaps(before, after):
-    """Head-on pairs (particle k and k + n) whose left-right order swapped between two samples."""
+    """(n/2,) True for head-on pairs (particle k and k + n) whose left-right order swapped."""
     n = len(before.positions) // 2
     order = lambda state: np.sign(state.positions[n:, 0] - state.positions[:n, 0])  # noqa: E731
-    return int(np.sum(order(before) != order(after)))
+    return order(before) != order(after)
 
 
 def counter(label):
-    def overlay(canvas, view, state):
-        x, y = view.to_pixels([BOX[0], BOX[3]])
-        count = state.counters["missed"]
-        color = palette.HIGHLIGHT if count else palette.PARTICLES[2]
-        raster.draw_text(canvas, f"missed {label}: {count}", (x + 8, y + 20), scale=0.45, color_rgb=color)
-    return overlay
+    def text(state):
+        return f"missed {label}: {state.counters['missed']}"
+    return Explainer([Caption(text, 0.0, None, "top")], fade=0.0, lines=1)
+
+
+SLOW = Pace(Slow(0.0, 1.5, 0.2))   # the first 1.5 s at a fifth of real time: six radii a frame is a blur
 
 
 def comparison_panels(seconds):
     panels = []
-    for make_world, count_missed, label in ((barrier_world, barrier_crossings, "barrier hits"),
-                                            (head_on_world, pair_swaps, "pair collisions")):
+    for make_world, crossed, label in ((barrier_world, barrier_crossings, "particles (barrier)"),
+                                       (head_on_world, pair_swaps, "pairs (head-on)")):
         for method, substeps, title in METHODS:
-            settings = collisim.RenderSettings(trails=6, overlay=counter(label), counters={"missed": count_missed})
+            settings = collisim.RenderSettings(trails=6, explainer=counter(label), pace=SLOW,
+                                               counters={"missed": MissedOnce(crossed)})
             scene = collisim.Scene(world=make_world(), fps=60, seconds=seconds, method=method,
                                    substeps=substeps, broadphase="brute", render=settings)
             panels.append(collisim.Panel(scene, title))
@@ -87,10 +105,10 @@ def explanation_world():
 
 
 def explanation_overlay(world):
+    """The paths: where discrete motion puts the particle, and where ccd does."""
     p0 = world.positions[0].copy()
     v = world.velocities[0]
-    p1 = p0 + v                                   # where discrete motion puts it one frame later
-    pc = p0 + T_C * v                             # the centre at the moment of contact
+    p1, pc = p0 + v, p0 + T_C * v
     reflected = pc + (1 - T_C) * v * np.array([1.0, -1.0])
 
     def overlay(canvas, view, state):
@@ -98,29 +116,42 @@ def explanation_overlay(world):
         raster.draw_lines(canvas, view, [pc], [reflected], palette.HIGHLIGHT, 2)
         raster.draw_rings(canvas, view.to_pixels([p0, p1]), view.length([BIG, BIG]), palette.DIM_TEXT, 1)
         raster.draw_rings(canvas, view.to_pixels([pc]), view.length([BIG]), palette.HIGHLIGHT, 2)
-        notes = [(p0, "frame 0: p0"), (p1, "frame 1 without ccd: p1, through the floor"),
-                 (pc, f"t_c = {T_C:.2f}: r above the floor"), (reflected, "frame 1 with ccd: reflected")]
-        size = max(0.38, 0.5 * min(1.0, view.scale / 66))   # text shrinks with small frames
-        for point, text in notes:
-            x, y = view.to_pixels(point)
-            raster.draw_text(canvas, text, (x + view.length(BIG * 1.15), y + 5), scale=size, color_rgb=palette.TEXT)
-        for k, line in enumerate(["p(t) = (1 - t) p0 + t p1     linear interpolation over the frame",
-                                  "y(t_c) = floor + r          the constraint: solve it for t_c",
-                                  "after t_c, v_y flips: the path mirrors" + found_by_engine(state)]):
-            x, y = view.to_pixels([0.3, -2.3 - 0.38 * k])
-            raster.draw_text(canvas, line, (x, y), scale=size, color_rgb=palette.TEXT)
-    return overlay
+    return overlay, (p0, p1, pc, reflected)
+
+
+def derivation(points):
+    """The t_c derivation, a line at a time over the frozen frame (video clock)."""
+    p0, p1, pc, reflected = points
+    hold = 1.0 + 0.0   # the freeze starts when frame 1 is first shown (see PACE below)
+    return Explainer([
+        Note(r"frame 0: $p_0$", p0, 0.0, None, gap=BIG),
+        Caption(r"between frames the path is straight: $p(t) = (1 - t)\,p_0 + t\,p_1$,  $t \in [0, 1]$",
+                hold + 0.5, None, "bottom"),
+        Note(r"frame 1 without ccd: $p_1$, through the floor", p1, hold + 0.5, None, gap=BIG),
+        Caption(r"the constraint: touching the floor, $y(t_c) = y_{floor} + r$", hold + 2.0, None, "bottom", 1),
+        Caption(r"solved: $t_c = \frac{y_{floor} + r - y_0}{y_1 - y_0}$" + f"$\\, = {T_C:.2f}$",
+                hold + 3.5, None, "bottom", 2),
+        Note(r"$t_c$: the contact", pc, hold + 3.5, None, gap=BIG),
+        Caption(lambda state: r"after $t_c$, $v_y$ flips: the path mirrors" + found_by_engine(state),
+                hold + 5.0, None, "bottom", 3),
+        Note(r"frame 1 with ccd: reflected", reflected, hold + 5.0, None, gap=BIG),
+    ], clock="video", lines=4)
 
 
 def found_by_engine(state):
     """The engine's own t_c, read from the trajectory's events once the impact has happened."""
     hits = state.events.time[state.events.kind == SEGMENT]
-    return f"   (engine found t_c = {hits[0]:.4f})" if len(hits) else ""
+    return f"   (the engine found $t_c$ = {hits[0]:.4f} s)" if len(hits) else ""
 
 
-def explanation(seconds=6.0):
+EXPLAIN_PACE = Pace(Freeze(1.0, 7.0))   # hold frame 1 while the derivation appears
+
+
+def explanation(seconds=3.0):
     world = explanation_world()
-    settings = collisim.RenderSettings(overlay=explanation_overlay(world), hud=True, flash=False)
+    overlay, points = explanation_overlay(world)
+    settings = collisim.RenderSettings(overlay=overlay, explainer=derivation(points), pace=EXPLAIN_PACE,
+                                       hud=True, flash=False)
     scene = collisim.Scene(world=world, fps=EXPLAIN_FPS, seconds=seconds, method="ccd", render=settings)
     return collisim.Scene(panels=[collisim.Panel(scene, "continuous detection: solve for the time of collision")],
                           fps=60, seconds=seconds)
@@ -130,4 +161,5 @@ def scene() -> collisim.Scene:
     compare = collisim.Scene(panels=comparison_panels(SECONDS), fps=60, seconds=SECONDS,
                              render=collisim.RenderSettings(layout=(2, 3)))
     explain = explanation()
-    return collisim.Scene(chapters=[compare, explain], fps=60, seconds=compare.seconds + explain.seconds)
+    return collisim.Scene(chapters=[compare, explain], fps=60,
+                          seconds=collisim.pipeline.video_seconds(compare) + collisim.pipeline.video_seconds(explain))

@@ -8,6 +8,13 @@ import pytest
 import collisim
 from collisim.render import explain
 from collisim.render.explain import Caption, Explainer, Note
+from collisim.render.player import Timeline
+
+
+def scenes_within(scene):
+    """The scene and every scene in its panels and chapters."""
+    inner = [p.scene for p in scene.panels] + list(scene.chapters)
+    return [scene] + [s for part in inner for s in scenes_within(part)]
 
 
 def key_frames(scene, quality, count=6):
@@ -16,17 +23,23 @@ def key_frames(scene, quality, count=6):
     return np.linspace(0, frames - 1, count).astype(int)
 
 
-@pytest.mark.parametrize("name", ["single_bounce", "two_bodies", "teacher_drop"])
+@pytest.mark.parametrize("name", ["single_bounce", "two_bodies", "teacher_drop", "tunneling", "broadphase_six"])
 @pytest.mark.parametrize("quality", ["l", "h"])
 def test_explained_scenes_keep_text_in_its_strips_and_panel(name, quality, tmp_path):
     scene = collisim.load_scene(name)
-    explainer = scene.render.explainer
+    explainers = [s.render.explainer for s in scenes_within(scene) if s.render.explainer is not None]
     seen = set()
-    for frame in key_frames(scene, quality, 8):
-        collisim.render(scene, tmp_path / "f.png", quality=quality, png_frame=int(frame))
-        for kind, rect, bound in explainer.drawn:
-            assert explain.inside(rect, bound), (quality, frame, kind, rect, bound)
-            seen.add(kind)
+    job = collisim.pipeline.plan(scene, quality=quality)
+    timeline = Timeline(job.chapters, job.size, job.fps)
+    canvas = np.empty((job.size[1], job.size[0], 3), np.uint8)
+    for frame in key_frames(scene, quality, 10):   # one pass through the video, drawing key frames
+        for explainer in explainers:
+            explainer.drawn = []
+        timeline.draw(canvas, int(frame))
+        for explainer in explainers:
+            for kind, rect, bound in explainer.drawn:
+                assert explain.inside(rect, bound), (quality, frame, kind, rect, bound)
+                seen.add(kind)
     assert "caption" in seen
 
 
