@@ -23,7 +23,7 @@ def key_frames(scene, quality, count=6):
     return np.linspace(0, frames - 1, count).astype(int)
 
 
-@pytest.mark.parametrize("name", ["single_bounce", "two_bodies", "teacher_drop", "tunneling", "broadphase_six"])
+@pytest.mark.parametrize("name", ["single_bounce", "two_bodies", "teacher_drop", "tunneling", "broadphase_six", "frame_rate"])
 @pytest.mark.parametrize("quality", ["l", "h"])
 def test_explained_scenes_keep_text_in_its_strips_and_panel(name, quality, tmp_path):
     scene = collisim.load_scene(name)
