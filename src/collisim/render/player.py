@@ -169,13 +169,19 @@ class PanelPlayer:
             draw_hud(canvas, self.content, lines, self.text_scale)
 
     def _draw_flashes(self, canvas, now: float) -> None:
+        """A ring growing from each fresh impact's contact point, drawn inside the box only (a
+        wall's contact point is on the wall, and half a ring outside would cover the frame)."""
+        (x0, y0), (x1, y1) = np.rint(self.view.to_pixels([self.world.box[:2], self.world.box[2:]])).astype(int)
+        top, bottom, left, right = max(y1, 0), max(y0 + 1, 0), max(x0, 0), max(x1 + 1, 0)
+        inside = canvas[top:bottom, left:right]   # a view: drawing into it draws into the canvas
         for events in self._recent:
             fresh = (events.time <= now + 1e-12) & (events.time > now - FLASH_SECONDS)
             if not fresh.any():
                 continue
             age = (now - events.time[fresh]) / FLASH_SECONDS
             radii = self.view.length(self.world.radii[events.i[fresh]]) * (0.3 + 0.5 * age)
-            raster.draw_rings(canvas, self.view.to_pixels(events.point[fresh]), radii, palette.FLASH, 1)
+            centres = self.view.to_pixels(events.point[fresh]) - [left, top]
+            raster.draw_rings(inside, centres, radii, palette.FLASH, max(1, int(round(self.unit))))
 
 
 def panel_rects(count: int, size: tuple, layout=None) -> list:
