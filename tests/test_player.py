@@ -102,3 +102,19 @@ def test_compare_video_plays_the_methods_side_by_side(cli, tmp_path):
     # four panels in a 2 x 2 grid (discrete x1, discrete x8, ccd, pymunk x1): each quarter has its own drawing
     quarters = [frame[r:r + 360, c:c + 640] for r in (0, 360) for c in (0, 640)]
     assert all(q.std() > 5 for q in quarters)
+
+
+@pytest.mark.parametrize("fps", [15, 30, 60])
+def test_the_hud_reaches_its_last_frame_on_the_last_video_frame(fps):
+    """The HUD counts frames out of the last sample the video shows, so its last frame reads N/N."""
+    from collisim.render.hud import hud_lines
+    from collisim.render.player import Timeline
+    scene = collisim.load_scene("particles_250").replace(seconds=1.0)
+    job = collisim.pipeline.plan(scene, SIZE, fps=fps)
+    timeline = Timeline(job.chapters, job.size, job.fps)
+    canvas = np.empty((SIZE[1], SIZE[0], 3), np.uint8)
+    timeline.draw(canvas, job.frames - 1)
+    player = timeline._players[0]
+    assert player.state.sample == player.last_sample > 0
+    line = hud_lines(player._block, player.last_sample, player.state)[0]
+    assert f"frame {player.last_sample}/{player.last_sample}" in line

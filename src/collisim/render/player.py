@@ -70,7 +70,7 @@ class Chapter:
 class PanelPlayer:
     """Plays one panel's trajectory into a rectangle of the canvas."""
 
-    def __init__(self, source: PanelSource, rect: tuple, video_fps: float):
+    def __init__(self, source: PanelSource, rect: tuple, video_fps: float, video_frames: int | None = None):
         self.source, self.settings, self.title, self.video_fps = source, source.settings, source.title, video_fps
         self.rect = rect
         left, top, width, height = rect
@@ -97,6 +97,8 @@ class PanelPlayer:
         self._counters = dict.fromkeys(self.settings.counters, 0)
         self.state = None
         self.pace, self.clock = self.settings.pace, 0.0   # render/pace.py: slow motion, freezes
+        # the last sample the video shows, so the HUD's last frame reads "frame N/N"
+        self.last_sample = source.frames if video_frames is None else self._sample_at(video_frames - 1)
         self._map_coverage = None   # the map's pixels on the canvas, computed at the first draw
 
     @property
@@ -110,10 +112,8 @@ class PanelPlayer:
     def advance(self, video_frame: int) -> None:
         """Move to the sample shown at this video frame (never backwards), visiting every
         sample on the way so trails, counts and counters build up."""
-        clock = video_frame / self.video_fps
-        shown = self.pace.simulation_time(clock) if self.pace is not None else clock
-        target = min(int(math.floor(shown * self.source.fps + 1e-9)), self.source.frames)
-        self.clock = clock
+        target = self._sample_at(video_frame)
+        self.clock = video_frame / self.video_fps
         while self._sample < target:
             self._sample += 1
             row = self._row(self._sample)
@@ -125,6 +125,12 @@ class PanelPlayer:
                 for name, count in self.settings.counters.items():
                     self._counters[name] += int(count(before, self.state))
             self.state.counters = dict(self._counters)
+
+    def _sample_at(self, video_frame: int) -> int:
+        """The sample shown at a video frame: the latest at the panel's clock (paced)."""
+        clock = video_frame / self.video_fps
+        shown = self.pace.simulation_time(clock) if self.pace is not None else clock
+        return min(int(math.floor(shown * self.source.fps + 1e-9)), self.source.frames)
 
     def _row(self, sample: int) -> int:
         while sample >= self._first + len(self._block.times):
@@ -165,7 +171,7 @@ class PanelPlayer:
             state.clock = self.clock
             settings.explainer.draw(canvas, self.view, state, world, self.strips, self.unit)
         if settings.hud:
-            lines = hud_lines(self._block, self.source.frames, state, compact=self.rect[2] < 800)
+            lines = hud_lines(self._block, self.last_sample, state, compact=self.rect[2] < 800)
             draw_hud(canvas, self.content, lines, self.text_scale)
 
     def _draw_flashes(self, canvas, now: float) -> None:
@@ -198,7 +204,7 @@ def panel_rects(count: int, size: tuple, layout=None) -> list:
 
 def make_players(chapter: Chapter, size: tuple, video_fps: float) -> list:
     rects = panel_rects(len(chapter.panels), size, chapter.layout)
-    return [PanelPlayer(source, rect, video_fps) for source, rect in zip(chapter.panels, rects)]
+    return [PanelPlayer(source, rect, video_fps, chapter.frames) for source, rect in zip(chapter.panels, rects)]
 
 
 def draw_frame(canvas, players: list, frame: int) -> None:
