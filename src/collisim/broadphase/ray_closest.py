@@ -32,7 +32,7 @@ from .bvh import BoundingVolumeHierarchy, build_bvh, node_entry
 from .grid import UniformGrid, cell_bounds
 from .grid_cursor import begin_walk, cell_bounds_both_ways, next_cell
 from .kdtree import KDTree, build_kdtree, split_region
-from .ray_hit import search_limit, test_body
+from .ray_hit import search_limit, test_body, test_run
 from .sweep_prune import sorted_intervals, sweep_axis
 
 BruteRays = namedtuple("BruteRays", ["n"])
@@ -145,9 +145,8 @@ def grid_ray_closest(state, bodies, ray, best):
             return best, visited, tested
         cell = ix * ny + iy  # bin_boxes' numbering
         visited += 1
-        for a in range(state.cell_start[cell], state.cell_start[cell + 1]):
-            tested += 1
-            best = test_body(bodies, state.cell_boxes[a], ray, best)
+        best, tested = test_run(bodies, state.cell_boxes, state.cell_start[cell], state.cell_start[cell + 1], ray,
+                                best, tested)
 
 
 @njit(cache=True)
@@ -166,9 +165,7 @@ def kdtree_ray_closest(state, bodies, ray, best):
         axis = state.node_axis[node]
         if axis < 0:
             first = state.node_first[node]
-            for a in range(first, first + state.node_count[node]):
-                tested += 1
-                best = test_body(bodies, state.leaf_boxes[a], ray, best)
+            best, tested = test_run(bodies, state.leaf_boxes, first, first + state.node_count[node], ray, best, tested)
             continue
         # As in kdtree_raycast: a split value outside the region cuts at its nearest side.
         value = min(max(state.node_value[node], region[axis]), region[axis + 2])
@@ -203,9 +200,7 @@ def bvh_ray_closest(state, bodies, ray, best):
         left = state.node_left[node]
         if left < 0:
             first = state.node_first[node]
-            for a in range(first, first + state.node_count[node]):
-                tested += 1
-                best = test_body(bodies, state.order[a], ray, best)
+            best, tested = test_run(bodies, state.order, first, first + state.node_count[node], ray, best, tested)
             continue
         t_left = node_entry(state.node_lo, state.node_hi, left, ray.ox, ray.oy, ray.ux, ray.uy, limit)
         t_right = node_entry(state.node_lo, state.node_hi, left + 1, ray.ox, ray.oy, ray.ux, ray.uy, limit)

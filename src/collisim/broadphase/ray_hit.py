@@ -87,3 +87,12 @@ def test_body(bodies, i, ray, best):
         return best
     t, nx, ny, inside = ray_body(shapes, positions, radii, i, ray.ox, ray.oy, ray.ux, ray.uy)
     return keep_closer(best, t, inside, BODY, i, nx, ny, ray.max_distance)
+
+
+@njit(cache=True)
+def test_run(bodies, items, first, end, ray, best, tested):
+    """test_body for the bodies items[first:end] (a leaf's or a cell's run); returns the best
+    hit and `tested` plus the bodies tested."""
+    for a in range(first, end):
+        best = test_body(bodies, items[a], ray, best)
+    return best, tested + (end - first)
