@@ -244,7 +244,7 @@ def test_version():
 
 
 def test_panel_scene_says_which_physics_flags_it_ignores(tmp_path):
-    result = run_cli("render", "frame_rate", "--seconds", "0.4", "--size", "160x90", "--no-progress",
+    result = run_cli("render", "broadphase_six", "--seconds", "0.4", "--size", "160x90", "--no-progress",
                      "--method", "ccd", "--substeps", "2", "--out", tmp_path / "f.mp4")
     assert result.returncode == 0, result.stderr
     notes = [line for line in result.stderr.splitlines() if line.startswith("collisim: note: ") and "--" in line]
@@ -266,7 +266,7 @@ def shown_states(job, frames):
 
 
 def test_video_fps_samples_one_simulation_at_the_scene_s_own_step():
-    scene = collisim.load_scene("two_bodies").replace(seconds=1.0)
+    scene = collisim.load_scene("particles_250").replace(seconds=1.0)   # a scene without slow motion
     at30, at60 = plan(scene, (320, 180), fps=30), plan(scene, (320, 180), fps=60)
     assert (at30.frames, at60.frames) == (30, 60)
     assert [p.fps for p in at30.chapters[0].panels] == [scene.fps]       # the step is the scene's

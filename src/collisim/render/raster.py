@@ -1,8 +1,10 @@
 """Off-screen drawing with OpenCV: anti-aliased shapes at sub-pixel positions.
 
-cv2's `shift` argument takes fixed-point coordinates (value · 2^shift), so a circle drawn
+cv2's `shift` argument takes fixed-point coordinates (value · 2^shift), so a line drawn
 with SHIFT = 4 sits on a 1/16-pixel grid instead of snapping to whole pixels — motion stays
-smooth at any speed. Colours are given as RGB and drawn into BGR canvases.
+smooth at any speed. Discs and rings are drawn by the compiled rasterizer in splat.py, at float
+positions and with area-exact anti-aliasing. Colours are given as RGB and drawn into BGR
+canvases.
 """
 from __future__ import annotations
 
@@ -10,6 +12,7 @@ import cv2
 import numpy as np
 
 from .. import palette
+from . import splat
 
 SHIFT = 4
 ONE = 1 << SHIFT
@@ -31,22 +34,18 @@ def fixed(values) -> np.ndarray:
 
 
 def draw_circles(canvas, centres_px, radii_px, colors_rgb) -> None:
-    """Filled anti-aliased circles. centres_px: (n, 2) float pixels; radii_px: (n,); colors_rgb: (n, 3).
-
-    OpenCV has no batched circle call, so this loops in Python over the circles, one cv2 call
-    each, with every argument prepared by numpy beforehand.
-    """
-    centres = fixed(centres_px).tolist()
-    radii = fixed(np.maximum(radii_px, 0.5)).tolist()
-    colors = np.asarray(colors_rgb)[:, ::-1].tolist()
-    for (x, y), r, color in zip(centres, radii, colors):
-        cv2.circle(canvas, (x, y), r, color, -1, cv2.LINE_AA, SHIFT)
+    """Filled anti-aliased discs, later over earlier. centres_px: (n, 2) float pixels; radii_px:
+    (n,); colors_rgb: (n, 3). One compiled call for all of them (splat.py): each pixel is
+    blended by the fraction of it the disc covers, so a disc covers pi r^2 pixels whatever its
+    size, and one smaller than a pixel still shows, dimmed to its area."""
+    colors = np.asarray(colors_rgb).reshape(-1, 3)[:, ::-1]
+    splat.draw_discs(canvas, centres_px, radii_px, colors)
 
 
 def draw_rings(canvas, centres_px, radii_px, color_rgb, thickness: int = 2) -> None:
-    color = bgr(color_rgb)
-    for (x, y), r in zip(fixed(centres_px).tolist(), fixed(radii_px).tolist()):
-        cv2.circle(canvas, (x, y), r, color, thickness, cv2.LINE_AA, SHIFT)
+    """Anti-aliased circle outlines of one colour: annuli `thickness` pixels wide centred on
+    radii_px, as cv2.circle draws them (a negative thickness fills), through splat.py."""
+    splat.draw_annuli(canvas, centres_px, radii_px, thickness, bgr(color_rgb))
 
 
 def draw_box(canvas, view, box, color_rgb=None, thickness: int = 2) -> None:

@@ -9,6 +9,14 @@ render / floor is the overhead of everything else.
 
 Memory: particles_250 rendered for 30 s and for 2 minutes in fresh processes, peak resident
 memory of each; the engine streams blocks of frames, so the peak should not grow with length.
+
+Drawing (`drawing_ms`, `many_particles_figures`; run(drawing=True) adds both to render.json, and
+`python -m collisim.analysis.bench.render` prints them): the particles_250 size mix scaled to
+250, 25 000 and 250 000 particles (the box grows with the count, so the discs shrink from 8-18 px
+to under a pixel at 720p), drawn at 1280x720 and 1920x1080 by the compiled rasterizer
+(render/splat.py) and by the former one cv2.circle call per disc, in the same run, alternating,
+milliseconds per frame over repeats. Then a whole render of 25 000 particles at 720p against the
+encode-only floor of the same frames, and the same render with the former drawing.
 """
 from __future__ import annotations
 
@@ -19,13 +27,18 @@ import tempfile
 import time
 from pathlib import Path
 
+import cv2
 import numpy as np
 
 import collisim
+from collisim import palette
 from collisim.gas import lattice_gas
 from collisim.io.writers import open_writer
+from collisim.palette import default_colors
 from collisim.pipeline import scene_chapters
+from collisim.render import raster
 from collisim.render.player import Timeline
+from collisim.render.view import View
 
 SIZE = (1280, 720)
 BATCH = 120   # frames drawn ahead for the encode-only floor (about 330 MB at 720p)
@@ -88,12 +101,14 @@ def peak_memory_mb(seconds: float, folder: Path) -> float:
     return json.loads(out.stdout.strip().splitlines()[-1]) / 1024
 
 
-def run(out_dir: Path, seconds: float = 60.0, memory: bool = True, progress: bool = True) -> dict:
-    """Measure the video's job; write render.json; return the figures."""
+def run(out_dir: Path, seconds: float = 60.0, memory: bool = True, progress: bool = True,
+        drawing: bool = False) -> dict:
+    """Measure the video's job; write render.json; return the figures. drawing: also the
+    drawing figures (drawing_ms and many_particles_figures, a few minutes more)."""
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     scene = video_job(seconds)
-    steps = ["warm up", "simulate (brute)", "simulate (sweep_prune)", "render", "encode only", "memory"]
+    steps = ["warm up", "simulate (brute)", "simulate (sweep_prune)", "render", "encode only", "memory", "drawing"]
     say = (lambda step: print(f"bench render: {step}", file=sys.stderr)) if progress else (lambda step: None)
     with tempfile.TemporaryDirectory(dir=out_dir) as scratch:
         folder = Path(scratch)
@@ -113,5 +128,154 @@ def run(out_dir: Path, seconds: float = 60.0, memory: bool = True, progress: boo
         if memory:
             say(steps[5])
             figures["peak_memory_mb"] = {"30 s": peak_memory_mb(30, folder), "120 s": peak_memory_mb(120, folder)}
+        if drawing:
+            say(steps[6])
+            figures["drawing"] = {"per_frame": drawing_ms(), "many_particles": many_particles_figures(folder)}
     (out_dir / "render.json").write_text(json.dumps(figures, indent=2))
     return figures
+
+
+# --- drawing ----------------------------------------------------------------------------------------
+
+DRAWING_COUNTS = (250, 25_000, 250_000)
+DRAWING_SIZES = ((1280, 720), (1920, 1080))
+
+
+def drawing_workload(n: int, size=SIZE, seed: int = 1, shuffle: bool = False) -> tuple:
+    """particles_250's size mix (radii 0.22/0.32/0.45 in a 32x18 box) scaled to n particles: the
+    box grows by sqrt(n / 250), so the particles keep their packing and shrink on screen. Returns
+    centres (n, 2) and radii (n,) in pixels of a `size` frame, colours (n, 3) RGB. In lattice
+    order (row after row of the lattice, as a gas starts), or shuffled, as a gas mixes."""
+    grow = np.sqrt(n / 250)
+    box = (0.0, 0.0, 32.0 * grow, 18.0 * grow)
+    positions, _, radii = lattice_gas(n, box=box, seed=seed)
+    if shuffle:
+        order = np.random.default_rng(seed).permutation(n)
+        positions, radii = positions[order], radii[order]
+    view = View(box, (0, 0, size[0], size[1]))
+    return view.to_pixels(positions), view.length(radii), default_colors(radii)
+
+
+def cv2_circles(canvas, centres_px, radii_px, colors_rgb) -> None:
+    """The former raster.draw_circles: one anti-aliased cv2.circle per disc, at 1/16 pixel."""
+    centres = raster.fixed(centres_px).tolist()
+    radii = raster.fixed(np.maximum(radii_px, 0.5)).tolist()
+    colors = np.asarray(colors_rgb)[:, ::-1].tolist()
+    for (x, y), r, color in zip(centres, radii, colors):
+        cv2.circle(canvas, (x, y), r, color, -1, cv2.LINE_AA, raster.SHIFT)
+
+
+def _spread(samples) -> dict:
+    ms = 1e3 * np.asarray(samples)
+    return {"min": float(ms.min()), "median": float(np.median(ms)), "max": float(ms.max()), "runs": len(ms)}
+
+
+def drawing_ms(counts=DRAWING_COUNTS, sizes=DRAWING_SIZES, repeats: int = 7, old_repeats: int = 3,
+               shuffle: bool = False) -> list:
+    """Milliseconds to draw one frame's discs, compiled (raster.draw_circles) and former
+    (cv2_circles), alternating in the same run; the frame is reset outside the clock. One row per
+    size and count: radii in pixels, then min/median/max of each. The former drawing takes
+    about a second a frame at 250 000 discs, hence fewer repeats."""
+    rows = []
+    for size in sizes:
+        background = np.empty((size[1], size[0], 3), np.uint8)
+        background[:] = raster.bgr(palette.BACKGROUND)
+        canvas = background.copy()
+        for n in counts:
+            centres, radii, colors = drawing_workload(n, size, shuffle=shuffle)
+            raster.draw_circles(canvas, centres, radii, colors)        # compiled before the clock
+            new, old = [], []
+            for k in range(repeats):
+                np.copyto(canvas, background)
+                start = time.perf_counter()
+                raster.draw_circles(canvas, centres, radii, colors)
+                new.append(time.perf_counter() - start)
+                if k < old_repeats:
+                    np.copyto(canvas, background)
+                    start = time.perf_counter()
+                    cv2_circles(canvas, centres, radii, colors)
+                    old.append(time.perf_counter() - start)
+            new_ms, old_ms = _spread(new), _spread(old)
+            rows.append({"size": list(size), "n": n, "radius_px": [float(radii.min()), float(radii.max())],
+                         "order": "shuffled" if shuffle else "lattice", "new_ms": new_ms, "old_ms": old_ms,
+                         "old_over_new": old_ms["median"] / new_ms["median"]})
+    return rows
+
+
+def many_particles_job(n: int = 25_000, seconds: float = 5.0) -> collisim.Scene:
+    """n particles of particles_250's size mix at its packing, 60 fps, in a box scaled to fit."""
+    grow = np.sqrt(n / 250)
+    box = (0.0, 0.0, 32.0 * grow, 18.0 * grow)
+    positions, velocities, radii = lattice_gas(n, box=box, speed=3.0, seed=1)
+    world = collisim.World(positions=positions, velocities=velocities, radii=radii, box=box)
+    return collisim.Scene(world=world, fps=60, seconds=seconds, broadphase="grid", name=f"gas_{n}")
+
+
+def many_particles_figures(folder: Path, n: int = 25_000, seconds: float = 5.0, former: bool = True) -> dict:
+    """A whole render of many_particles_job at 720p against the encode-only floor of the same
+    frames (both after a warm-up render), and, with `former`, the same render drawing discs with
+    cv2_circles instead."""
+    folder = Path(folder)
+    scene = many_particles_job(n, seconds)
+    collisim.render(many_particles_job(n, 0.2), folder / "warm_many.mp4", SIZE)
+    wall, split = render_seconds(scene, folder)
+    floor = encode_only_seconds(scene, folder)
+    figures = {"n": n, "frames": scene.frames, "size": list(SIZE), "render_seconds": wall, "split": split,
+               "encode_only_seconds": floor, "render_over_encode_only": wall / floor}
+    if former:
+        compiled = raster.draw_circles
+        raster.draw_circles = cv2_circles
+        try:
+            old_wall, old_split = render_seconds(scene, folder)
+        finally:
+            raster.draw_circles = compiled
+        figures["former"] = {"render_seconds": old_wall, "split": old_split,
+                             "render_over_encode_only": old_wall / floor}
+    return figures
+
+
+def format_drawing(rows: list, many: dict | None = None) -> str:
+    lines = ["drawing one frame's discs, ms: min / median / max over repeats; former / compiled, medians"]
+    for row in rows:
+        new, old = row["new_ms"], row["old_ms"]
+        lines.append(f"{row['size'][0]}x{row['size'][1]} n={row['n']:>7} r {row['radius_px'][0]:.2f}-"
+                     f"{row['radius_px'][1]:.2f} px ({row['order']}): compiled {new['min']:.2f} / "
+                     f"{new['median']:.2f} / {new['max']:.2f}, cv2 {old['min']:.1f} / {old['median']:.1f} / "
+                     f"{old['max']:.1f}, x{row['old_over_new']:.0f}")
+    if many is not None:
+        split = many["split"]
+        lines.append(f"{many['n']} particles, {many['frames']} frames at {many['size'][0]}x{many['size'][1]}: render "
+                     f"{many['render_seconds']:.2f} s (simulate {split['simulate']:.2f}, draw {split['draw']:.2f}, "
+                     f"encode {split['encode']:.2f}), encode only {many['encode_only_seconds']:.2f} s, "
+                     f"ratio {many['render_over_encode_only']:.2f}")
+        if "former" in many:
+            former = many["former"]
+            lines.append(f"  with the former cv2 drawing: render {former['render_seconds']:.2f} s (draw "
+                         f"{former['split']['draw']:.2f}), ratio {former['render_over_encode_only']:.2f}")
+    return "\n".join(lines)
+
+
+def main(argv=None) -> int:
+    import argparse
+    parser = argparse.ArgumentParser(description="drawing figures: compiled discs against cv2.circle")
+    parser.add_argument("--repeats", type=int, default=7)
+    parser.add_argument("--old-repeats", type=int, default=3)
+    parser.add_argument("--shuffle", action="store_true", help="draw the discs in shuffled order (a mixed gas)")
+    parser.add_argument("--seconds", type=float, default=5.0, help="length of the 25 000-particle render")
+    parser.add_argument("--no-render", action="store_true", help="only the per-frame drawing figures")
+    parser.add_argument("--out", type=Path, default=None, help="also write drawing.json into this folder")
+    args = parser.parse_args(argv)
+    rows = drawing_ms(repeats=args.repeats, old_repeats=args.old_repeats, shuffle=args.shuffle)
+    many = None
+    if not args.no_render:
+        with tempfile.TemporaryDirectory() as scratch:
+            many = many_particles_figures(Path(scratch), seconds=args.seconds)
+    print(format_drawing(rows, many))
+    if args.out is not None:
+        args.out.mkdir(parents=True, exist_ok=True)
+        (args.out / "drawing.json").write_text(json.dumps({"per_frame": rows, "many_particles": many}, indent=2))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
