@@ -7,7 +7,7 @@ from collisim.render.explain import Arrow, Caption, Explainer, Note
 
 RADIUS = 0.45
 BOX = (0.0, 0.0, 16.0, 9.0)
-E = 0.9
+E = 1.0                # elastic: the apex stays the same bounce after bounce
 
 
 def first_bounce(state):
@@ -47,8 +47,8 @@ def explainer() -> Explainer:
                 "bottom", 1),
         Arrow(lambda s: s.positions[0], velocity_tip, 0.5),
         Caption(bounce_count, after_first_bounce(3.5), np.inf, "bottom"),
-        Caption(r"energy after each bounce: $e^2 = 0.81$ of the energy in the motion toward the wall",
-                after_first_bounce(3.5), np.inf, "bottom", 1),
+        Caption(r"with $e = 1$ each bounce keeps the energy: $\frac{1}{2} m v^2 + m g y$ stays the same, "
+                r"so does the apex", after_first_bounce(3.5), np.inf, "bottom", 1),
     ])
 
 

@@ -6,7 +6,9 @@ import numpy as np
 import pytest
 
 import collisim
+from collisim.analysis import metrics
 from collisim.analysis.bench import accuracy
+from collisim.analysis.reference import simulate_plain_pymunk
 from collisim.analysis.bench.workloads import WORKLOADS, mean_radii_per_frame, packing_fraction
 
 
@@ -63,8 +65,9 @@ def test_run_writes_every_configuration_to_csv_and_a_chart(short_run):
     with open(short_run["csv"], newline="") as file:
         rows = list(csv.DictReader(file))
     expected = {accuracy.method_label(engine, k) for engine, k in accuracy.configurations()}
+    expected.add("pymunk mirror x1 (callbacks)")   # plain pymunk loses nothing at x1 here: no extra row
     assert {row["method"] for row in rows} == expected
-    assert len(rows) == len(expected) == 14
+    assert len(rows) == len(expected) == 15
     assert {"pymunk x1", "pymunk x32"} <= {row["method"] for row in rows}
     assert set(accuracy.COLUMNS) == set(rows[0])
     png = short_run["png"]["slow_gas"]
@@ -89,6 +92,47 @@ def test_budget_ratio_is_ccd_time_over_pymunk_x1(short_run):
     cost = {row["method"]: row["cost"] for row in short_run["rows"]}
     assert short_run["budget"]["ccd_over_pymunk_x1"]["slow_gas"] == pytest.approx(cost["ccd"] / cost["pymunk x1"])
     assert short_run["budget"]["fast_gas_lossless_pymunk_substeps"] is None   # fast_gas was not run
+    assert short_run["budget"]["mirror_over_pymunk_x1"]["slow_gas"] == pytest.approx(
+        cost["pymunk mirror x1 (callbacks)"] / cost["pymunk x1"])
+
+
+def test_pymunk_rows_are_plain_pymunk_and_the_mirror_only_its_own_line(short_run, monkeypatch):
+    """The pymunk rows' errors are plain pymunk's recorded run; their time is an unrecorded plain
+    run; the mirror is one separately labelled row."""
+    scene = WORKLOADS["slow_gas"]().replace(seconds=1.0, broadphase=accuracy.BROADPHASE)
+    plain = simulate_plain_pymunk(scene, 1)
+    row = next(row for row in short_run["rows"] if row["method"] == "pymunk x1")
+    assert row["pair_collisions"] == int(plain.pair_collisions.sum())
+    assert row["max_overlap"] == pytest.approx(metrics.max_overlap(plain))
+    mirrors = [row for row in short_run["rows"] if row["engine"] == "pymunk_mirror"]
+    assert [row["method"] for row in mirrors] == ["pymunk mirror x1 (callbacks)"]
+    timed = []
+    monkeypatch.setattr(accuracy, "time_plain_pymunk", lambda scene, k: timed.append(k) or 1.0)
+    monkeypatch.setattr(accuracy, "run_method", lambda *args: pytest.fail("pymunk timed through run_method"))
+    assert accuracy.timed_run(scene, "pymunk", 3) == (None, 1.0) and timed == [3]
+
+
+def test_lossless_search_tries_every_substep_count_on_the_fast_gas():
+    """The first loss-free count is found by trying 1, 2, 3, ... (it need not be one of the grid's
+    powers of two), each run recorded with plain pymunk."""
+    scene = WORKLOADS["fast_gas"]().replace(seconds=0.5)
+    k, tried = accuracy.lossless_substeps(scene)
+    assert k is not None and k > 1 and sorted(tried) == list(range(1, k + 1))
+    lost = {s: metrics.outside(traj, scene.world)[1] for s, traj in tried.items()}
+    assert lost[k] == 0 and all(lost[s] > 0 for s in range(1, k))
+    assert all(traj.method == "pymunk" for traj in tried.values())
+
+
+def test_budget_takes_the_first_loss_free_pymunk_row():
+    rows = [dict(workload="fast_gas", method=m, engine=e, substeps=k, cost=c, lost=lost)
+            for m, e, k, c, lost in [("ccd", "ccd", 1, 1.0, 0), ("pymunk x1", "pymunk", 1, 0.1, 90),
+                                     ("pymunk x4", "pymunk", 4, 0.4, 2), ("pymunk x8", "pymunk", 8, 0.8, 0),
+                                     ("pymunk x6", "pymunk", 6, 0.5, 0),
+                                     ("pymunk mirror x1 (callbacks)", "pymunk_mirror", 1, 0.3, 80)]]
+    figures = accuracy.budget(rows)
+    assert figures["fast_gas_lossless_pymunk_substeps"] == 6 == figures["lossless_pymunk_substeps"]["fast_gas"]
+    assert figures["fast_gas_ccd_over_lossless_pymunk"] == pytest.approx(2.0)
+    assert figures["mirror_over_pymunk_x1"]["fast_gas"] == pytest.approx(3.0)
 
 
 def test_unknown_workload_is_one_clear_error(tmp_path):
@@ -101,6 +145,7 @@ def test_bench_accuracy_cli_prints_the_budget_ratios(cli, tmp_path):
                  "--no-progress", "--out", tmp_path)
     assert result.returncode == 0, result.stderr
     assert "ccd / pymunk x1 on slow_gas:" in result.stdout
+    assert "pymunk mirror (callbacks) x1 / pymunk x1 on slow_gas:" in result.stdout
     assert (tmp_path / "accuracy.csv").exists() and (tmp_path / "accuracy_slow_gas.png").exists()
     bad = cli("bench", "accuracy", "--workloads", "lava", "--out", tmp_path)
     assert bad.returncode == 2 and "unknown workload 'lava'" in bad.stderr

@@ -4,20 +4,35 @@ Every workload of collisim.analysis.bench.workloads runs under
   * collisim's discrete steps at 1, 2, 4, 8, 16, 32 and 64 substeps per frame (grid broad phase,
     so the engine takes its fused compiled path: the fastest discrete configuration);
   * collisim's ccd: exact event-driven motion, the reference for every error below;
-  * pymunk (Chipmunk2D through collisim.analysis.reference.pymunk_mirror) at 1, 2, 4, 8, 16 and 32
-    substeps per frame, the widely used impulse engine a user would otherwise reach for.
+  * pymunk (Chipmunk2D) at 1, 2, 4, 8, 16 and 32 substeps per frame, the widely used impulse
+    engine a user would otherwise reach for, as a user would run it: plain pymunk
+    (collisim.analysis.reference.plain_pymunk), Chipmunk's default settings, no callbacks, thin
+    static segments as walls;
+  * and two more rows that are not part of the grid above: pymunk at the first substep count
+    that loses no particle, when that count is not one of the six (found by trying 1, 2, 3, ...
+    with plain pymunk, see `lossless_substeps`), and "pymunk mirror x1 (callbacks)": the
+    comparison mirror (reference/pymunk_mirror.py: a Python callback on every contact, tiny
+    slop, 30 iterations), which `collisim compare` uses to check physics. It is shown so that
+    its cost is seen beside plain pymunk's, never as the speed baseline, and it is left out of
+    the Pareto fronts.
 
 Cost: wall seconds per simulated second, the median of `repeats` runs of the simulation alone
 (after a two-frame warm-up, so numba compilation or cache loading is not counted; no metric
 runs inside the timing). The runs go in rounds over all configurations of a workload, so a
-burst of load from elsewhere on a shared machine is not charged to one configuration.
+burst of load from elsewhere on a shared machine is not charged to one configuration. A plain
+pymunk run is timed as a user would step it: space.step calls and nothing else, no state read
+(building the Space, a few milliseconds of Python, is not counted). Its errors come from a
+separate, untimed run of the same Space that reads every frame and every touching arbiter
+through pymunk's batch API. The mirror's cost is the time of its space.step calls, callbacks
+included.
 
 Errors, one CSV column each (collisim.analysis.metrics defines them):
   energy_drift     |E_end − E_0| / E_0 (kinetic plus potential): an elastic world keeps it;
   max_overlap      deepest pair overlap seen in any frame, in radii: ccd never overlaps;
   lost             particles whose centre was beyond a wall in some frame (metrics.outside,
-                   "ever"); pymunk's thick walls push such a particle back in later, so this
-                   counts a visible failure, not necessarily an escape;
+                   "ever"). Plain pymunk's walls are thin segments, as a user writes them: such
+                   a particle has escaped for good. The mirror's thick walls push it back in
+                   later, so on its row this counts a visible failure, not an escape;
   missed           pairs that passed through each other within a frame, never pushed apart;
   position_error   RMS distance from ccd's particles at 0.25 s, in radii. In the slow and
                    dense gases and the bounces this is early enough to show each method's
@@ -35,7 +50,8 @@ front of that panel (the configurations no other is both faster and more accurat
 step line: the cheapest way to reach each accuracy. The budget figures say what the exact
 method costs in units of the engine one would otherwise use: ccd's time over pymunk x1's on
 the two slow gases, and on the fast gas over pymunk at the first substep count that loses no
-particle (pymunk at fewer substeps is not an alternative there).
+particle (pymunk at fewer substeps is not an alternative there); and, for the record, what the
+mirror's callbacks cost: the mirror x1 over plain pymunk x1.
 
 Writes accuracy.csv and accuracy_<workload>.png to the output folder.
 """
@@ -52,6 +68,8 @@ import numpy as np
 
 from .. import metrics
 from ..compare import measure, method_label, run_method
+from ..reference.plain_pymunk import simulate_plain_pymunk, time_plain_pymunk
+from ..reference.pymunk_mirror import simulate_pymunk
 from .workloads import WORKLOADS
 
 DISCRETE_SUBSTEPS = (1, 2, 4, 8, 16, 32, 64)
@@ -59,6 +77,9 @@ PYMUNK_SUBSTEPS = (1, 2, 4, 8, 16, 32)
 BROADPHASE = "grid"   # with no segments, the grid runs the discrete step fused (engine/fused.py)
 HORIZON = 0.25        # seconds: when positions are compared with ccd's
 WARM_UP_FRAMES = 2
+LOSSLESS_SEARCH_MAX = 64   # the most pymunk substeps tried when looking for one that loses no particle
+MIRROR = ("pymunk_mirror", 1)
+MIRROR_LABEL = "pymunk mirror x1 (callbacks)"
 
 
 @dataclass(frozen=True)
@@ -80,22 +101,55 @@ ERRORS = (
 )
 COLUMNS = ("workload", "method", "engine", "substeps", "seconds", "cost", *(e.column for e in ERRORS),
            "pair_collisions", "wall_pressure", "notes")
-STYLE = {"discrete": ("C0", "o"), "ccd": ("C3", "*"), "pymunk": ("C2", "s")}
+STYLE = {"discrete": ("C0", "o"), "ccd": ("C3", "*"), "pymunk": ("C2", "s"), "pymunk_mirror": ("C2", "D")}
+LEGEND = {"pymunk": "pymunk (plain, defaults)", "pymunk_mirror": "pymunk mirror (callbacks), not a baseline"}
 
 
 def configurations() -> list:
-    """(engine, substeps) of every configuration, in the CSV's order (ccd, the reference, first)."""
+    """(engine, substeps) of every configuration of the grid, in the CSV's order (ccd, the
+    reference, first). Each workload adds the extra rows of `extra_configurations`."""
     return ([("ccd", 1)] + [("discrete", k) for k in DISCRETE_SUBSTEPS]
             + [("pymunk", k) for k in PYMUNK_SUBSTEPS])
 
 
+def extra_configurations(lossless) -> list:
+    """The rows added to the grid: pymunk at the lossless substep count (when the grid lacks it)
+    and the mirror."""
+    extra = [("pymunk", lossless)] if lossless is not None and ("pymunk", lossless) not in configurations() else []
+    return extra + [MIRROR]
+
+
+def label(engine: str, substeps: int) -> str:
+    return MIRROR_LABEL if (engine, substeps) == MIRROR else method_label(engine, substeps)
+
+
 def timed_run(scene, engine: str, substeps: int) -> tuple:
-    """(trajectory, wall seconds) of one run of the scene: the simulation alone."""
+    """(trajectory or None, wall seconds) of one run of the scene: the simulation alone.
+
+    Plain pymunk is only stepped (no trajectory: see the module docstring); the mirror's time is
+    that of its space.step calls with their callbacks."""
+    if engine == "pymunk":
+        return None, time_plain_pymunk(scene, substeps)
+    if engine == "pymunk_mirror":
+        traj = simulate_pymunk(scene, substeps=substeps)
+        return traj, traj.profile["step"]
     with warnings.catch_warnings():   # ccd's event-budget warning is kept in the trajectory
         warnings.simplefilter("ignore")
         start = time.perf_counter()
         traj = run_method(scene, engine, substeps)
         return traj, time.perf_counter() - start
+
+
+def lossless_substeps(scene, limit: int = LOSSLESS_SEARCH_MAX) -> tuple:
+    """(k, {substeps: recorded plain pymunk trajectory}): k is the first substep count 1, 2, 3, ...
+    at which plain pymunk loses no particle (metrics.outside, ever), None if none up to `limit`;
+    the dict holds every run tried, for reuse."""
+    tried = {}
+    for k in range(1, limit + 1):
+        tried[k] = simulate_plain_pymunk(scene, k)
+        if metrics.outside(tried[k], scene.world)[1] == 0:
+            return k, tried
+    return None, tried
 
 
 def warm_up(scene, engine: str, substeps: int) -> None:
@@ -115,7 +169,7 @@ def error_row(workload: str, scene, engine: str, substeps: int, traj, reference)
     measured = measure(scene.world, traj, reference, HORIZON)
     reference_pressure = metrics.wall_pressure(reference, scene.world)
     return dict(
-        workload=workload, method=method_label(engine, substeps), engine=engine, substeps=substeps,
+        workload=workload, method=label(engine, substeps), engine=engine, substeps=substeps,
         seconds=scene.frames / scene.fps, cost=None,
         energy_drift=measured["energy_drift"], max_overlap=measured["max_overlap"],
         lost=measured["outside_ever"], missed=measured["missed_pairs"],
@@ -128,23 +182,35 @@ def error_row(workload: str, scene, engine: str, substeps: int, traj, reference)
 def measure_workload(workload: str, scene, repeats: int, bar) -> list:
     """Every configuration's row for one scene; ccd runs first, as everyone's reference.
 
-    The repeats are rounds over all configurations, not back-to-back runs of each: on a shared
-    machine a burst of load from elsewhere then lands on one run of several configurations
-    (and the median drops it) rather than on every run of one. Errors come from the first
-    round (every method is deterministic), so only the ccd trajectory is kept."""
-    configs = configurations()
+    First plain pymunk is recorded at 1, 2, 3, ... substeps until it loses no particle
+    (lossless_substeps; untimed). The repeats are then rounds over all configurations, not
+    back-to-back runs of each: on a shared machine a burst of load from elsewhere then lands on
+    one run of several configurations (and the median drops it) rather than on every run of
+    one. Errors come from the first round (every method is deterministic; plain pymunk's from
+    its recorded runs), so only the ccd trajectory is kept."""
+    bar.set_postfix_str(f"{workload} pymunk loss-free search")
+    lossless, recorded = lossless_substeps(scene)
+    configs = configurations() + extra_configurations(lossless)
+    bar.total += (len(configs) - len(configurations())) * repeats   # the extra rows
+    bar.refresh()
     for engine, substeps in configs:
         warm_up(scene, engine, substeps)
     seconds = {config: [] for config in configs}
     rows, reference = [], None
     for round_index in range(repeats):
         for engine, substeps in configs:
-            bar.set_postfix_str(f"{workload} {method_label(engine, substeps)}")
+            bar.set_postfix_str(f"{workload} {label(engine, substeps)}")
             traj, spent = timed_run(scene, engine, substeps)
             seconds[(engine, substeps)].append(spent)
             if round_index == 0:
                 reference = traj if engine == "ccd" else reference
-                rows.append(error_row(workload, scene, engine, substeps, traj, reference))
+                if engine == "pymunk":
+                    traj = recorded[substeps] if substeps in recorded else simulate_plain_pymunk(scene, substeps)
+                row = error_row(workload, scene, engine, substeps, traj, reference)
+                if engine == "pymunk" and substeps == lossless and lossless > 1:
+                    row["notes"] = "; ".join(filter(None, ["first pymunk substep count that loses no particle",
+                                                           row["notes"]]))
+                rows.append(row)
             bar.update()
     simulated = scene.frames / scene.fps
     for row, config in zip(rows, configs):
@@ -195,13 +261,18 @@ def plot_error(axes, rows: list, kind: ErrorKind) -> None:
 
     costs = [row["cost"] for row in rows]
     errors = [max(float(row[kind.column]), kind.floor) for row in rows]   # zeros sit on the floor
-    front = pareto_front(costs, errors)
+    candidates = [i for i, row in enumerate(rows) if row["engine"] != "pymunk_mirror"]   # not a baseline
+    front = [candidates[k] for k in pareto_front([costs[i] for i in candidates], [errors[i] for i in candidates])]
     axes.step([costs[i] for i in front], [errors[i] for i in front], where="post", color="0.5",
               linewidth=1, zorder=1, label="Pareto front")
     for engine, (colour, marker) in STYLE.items():
         mine = [i for i, row in enumerate(rows) if row["engine"] == engine]
-        axes.scatter([costs[i] for i in mine], [errors[i] for i in mine], color=colour, marker=marker,
-                     s=70 if engine == "ccd" else 30, zorder=2, label=engine)
+        if not mine:
+            continue
+        hollow = engine == "pymunk_mirror"
+        axes.scatter([costs[i] for i in mine], [errors[i] for i in mine], marker=marker,
+                     facecolors="none" if hollow else colour, edgecolors=colour,
+                     s=70 if engine == "ccd" else 30, zorder=2, label=LEGEND.get(engine, engine))
         for i in mine:
             if engine != "ccd":
                 axes.annotate(f"x{rows[i]['substeps']}", (costs[i], errors[i]), xytext=(3, 3),
@@ -219,20 +290,26 @@ def plot_error(axes, rows: list, kind: ErrorKind) -> None:
 # --- budget ------------------------------------------------------------------------------------
 
 def budget(rows: list) -> dict:
-    """What ccd costs in pymunk runs: ccd / pymunk x1 on the slow and dense gases; on the fast
-    gas the first pymunk substep count that loses no particle, and ccd / that run."""
+    """What ccd costs in (plain) pymunk runs: ccd / pymunk x1 on the slow and dense gases; per
+    workload the first pymunk substep count that loses no particle (the rows hold every count
+    below it that the search tried and that lost one, or none when the search found none), and
+    on the fast gas ccd / that run; and the mirror x1 / plain pymunk x1 per workload."""
     cost = {(row["workload"], row["method"]): row["cost"] for row in rows}
-    figures = {"ccd_over_pymunk_x1": {}, "fast_gas_lossless_pymunk_substeps": None,
-               "fast_gas_ccd_over_lossless_pymunk": None}
+    figures = {"ccd_over_pymunk_x1": {}, "lossless_pymunk_substeps": {}, "fast_gas_lossless_pymunk_substeps": None,
+               "fast_gas_ccd_over_lossless_pymunk": None, "mirror_over_pymunk_x1": {}}
     for workload in ("slow_gas", "dense_gas"):
         if (workload, "ccd") in cost:
             figures["ccd_over_pymunk_x1"][workload] = cost[(workload, "ccd")] / cost[(workload, "pymunk x1")]
-    lossless = [row for row in rows if row["workload"] == "fast_gas" and row["engine"] == "pymunk"
-                and row["lost"] == 0]
-    if lossless:
-        first = min(lossless, key=lambda row: row["substeps"])
-        figures["fast_gas_lossless_pymunk_substeps"] = first["substeps"]
-        figures["fast_gas_ccd_over_lossless_pymunk"] = cost[("fast_gas", "ccd")] / first["cost"]
+    for workload in dict.fromkeys(row["workload"] for row in rows):
+        if (workload, MIRROR_LABEL) in cost:
+            figures["mirror_over_pymunk_x1"][workload] = cost[(workload, MIRROR_LABEL)] / cost[(workload, "pymunk x1")]
+        lossless = [row for row in rows if row["workload"] == workload and row["engine"] == "pymunk"
+                    and row["lost"] == 0]
+        first = min(lossless, key=lambda row: row["substeps"]) if lossless else None
+        figures["lossless_pymunk_substeps"][workload] = first and first["substeps"]
+        if workload == "fast_gas" and first is not None:
+            figures["fast_gas_lossless_pymunk_substeps"] = first["substeps"]
+            figures["fast_gas_ccd_over_lossless_pymunk"] = cost[("fast_gas", "ccd")] / first["cost"]
     return figures
 
 
@@ -241,8 +318,10 @@ def run(out_dir, workloads=None, seconds: float = 10.0, repeats: int = 3, progre
     write accuracy.csv and accuracy_<workload>.png.
 
     Returns {"csv": path, "png": {workload: path}, "rows": [CSV rows as dicts],
-    "budget": {"ccd_over_pymunk_x1": {workload: ratio}, "fast_gas_lossless_pymunk_substeps":
-    substeps or None, "fast_gas_ccd_over_lossless_pymunk": ratio or None}}.
+    "budget": {"ccd_over_pymunk_x1": {workload: ratio}, "lossless_pymunk_substeps": {workload:
+    substeps or None}, "fast_gas_lossless_pymunk_substeps": substeps or None,
+    "fast_gas_ccd_over_lossless_pymunk": ratio or None, "mirror_over_pymunk_x1": {workload: ratio}}}.
+    Every pymunk ratio is against plain pymunk (reference/plain_pymunk.py).
     """
     from tqdm import tqdm
 

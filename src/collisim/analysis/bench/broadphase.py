@@ -4,17 +4,32 @@ The particles are a random "gas": circles at uniform random positions in a
 square sized so the circles cover ``packing`` of its area. Each method is
 timed on the *second* of two frames (the particles nudged a little in
 between), as the engine calls it, so sweep and prune profits from last
-frame's order. Two dashed reference lines put the numbers in context:
-
-* scipy's ``cKDTree`` build + ``query_pairs(r=2 * max radius)`` — a tuned C++
-  spatial index answering a similar question (all centres closer than the
-  largest possible contact distance);
-* one ``pymunk`` ``Space.step(1/60)`` on the same circles — a whole physics
-  step (broad phase, narrow phase and solver) of a real engine.
+frame's order. A dashed reference line puts the numbers in context: scipy's
+``cKDTree`` build + ``query_pairs(r=2 * max radius)``, a tuned C++ spatial index answering
+a similar question (all centres closer than the largest possible contact distance).
 
 The whole discrete step (collisim's engine with the grid, integrate to walls) is timed
-against pymunk's ``Space.step`` over many steps of the same moving gas, started without
-overlaps (a jittered lattice at the same packing), so both run in their steady state.
+over many steps of a moving gas, started without overlaps (a jittered lattice at the
+same packing), against two references in the same run, each timed in its steady state: every
+engine first runs WARM_STEPS steps (5 simulated seconds), then runs of at least MIN_TIMED_STEPS
+steps are timed. The warm-up matters for pymunk at large n: its bounding-box tree gives each
+shape a box fattened by its velocity over 0.1 s (Chipmunk's cpBBTree), and with every shape
+inserted at the same step they outgrow their boxes together, so for the first few hundred steps
+every sixth or seventh step re-indexes most of the gas (at n = 100 000: steps of ~20 ms with
+spikes of ~400 ms, settling to 55–90 ms a step on this project's machine); timing 5 steps from
+the start measured anything from 20 to 160 ms.
+
+* plain pymunk (collisim.analysis.reference.plain_pymunk): the Space a user would build, with
+  Chipmunk's defaults and no collision callbacks, timing ``space.step(1/60)`` alone. (The
+  comparison mirror, pymunk_mirror, with a Python callback on every contact and its own
+  settings, is never used for speed.)
+* the minimal compiled step of reference_step.py: a counting-sort grid with the data gathered
+  into cell order, the half 3×3 neighbourhood, elastic impulse and push-apart, reflecting
+  walls — a yardstick for what a compiled discrete step of this gas costs.
+
+The CSV has a row per (method, n); ``ns_per_particle`` is seconds_per_frame / n, and the
+discrete step's rows carry ``step_over_pymunk`` and ``step_over_reference``, its time divided
+by the two references' at the same n.
 
 Writes ``broadphase.csv`` and ``broadphase.png`` to the output folder.
 """
@@ -32,8 +47,12 @@ BRUTE_MAX_N = 3000  # brute force above this would take minutes
 RADII = (1.0, 1.5, 2.0)
 RADIUS_SHARES = (0.5, 0.3, 0.2)  # 5 : 3 : 2
 NUDGE = 0.05  # how far (in radii) particles move between the two frames
-REFERENCES = ("scipy_ckdtree", "pymunk_step", "discrete_step")
-STEP_WORK = 200_000   # particle-steps per timing of a whole step: 200 steps at n = 1000
+REFERENCES = ("scipy_ckdtree", "pymunk_step", "reference_step", "discrete_step")
+COLUMNS = ("method", "n", "seconds_per_frame", "ns_per_particle", "candidates", "true_pairs", "step_over_pymunk",
+           "step_over_reference")
+STEP_WORK = 200_000   # particle-steps per timing of a whole step: 200 steps at n = 1000...
+MIN_TIMED_STEPS = 21  # ...and at least this many (three of pymunk's re-indexing periods, see below)
+WARM_STEPS = 300      # steps of every whole-step engine before it is timed: 5 simulated seconds
 
 
 def random_gas(n: int, packing: float, seed: int) -> tuple[np.ndarray, np.ndarray]:
@@ -97,37 +116,66 @@ def moving_gas(n: int, packing: float, seed: int) -> "collisim.Scene":
     return collisim.Scene(world=world, fps=60, seconds=1.0, broadphase="grid")
 
 
-def time_discrete_step(scene, repeats: int) -> float:
-    """Median seconds per step of collisim's discrete engine (grid) over a run of steps."""
+def discrete_stepper(scene):
+    """advance(steps) for collisim's discrete engine (grid) on the scene's world."""
     from collisim.engine.discrete import DiscreteStepper
 
-    stepper = DiscreteStepper(scene.world, scene.fps, 1, "grid")
-    stepper.run(2)
-    steps = max(5, STEP_WORK // scene.world.n)
-    seconds = []
+    return DiscreteStepper(scene.world, scene.fps, 1, "grid").run
+
+
+def pymunk_stepper(scene):
+    """advance(steps) of plain pymunk space.step(1/60) on the same gas: the Space a user would
+    build (reference/plain_pymunk.py: the World's masses and moments, elasticity = restitution,
+    friction 0, walls as static segments, Chipmunk's defaults, no callbacks)."""
+    from collisim.analysis.reference.plain_pymunk import PlainPymunk
+
+    plain = PlainPymunk(scene.world)
+    return lambda steps: plain.time_steps(scene.fps, steps)
+
+
+def reference_stepper(scene):
+    """advance(steps) of the minimal compiled step (reference_step.py) on the same gas."""
+    from .reference_step import ReferenceStep
+
+    return ReferenceStep.from_world(scene.world, scene.fps).run
+
+
+STEPPERS = {"pymunk_step": pymunk_stepper, "reference_step": reference_stepper, "discrete_step": discrete_stepper}
+
+
+def time_whole_steps(scene, repeats: int, names=tuple(STEPPERS), warm_steps: int = WARM_STEPS) -> dict:
+    """{name: median seconds per step} of each whole step on its own copy of the same gas, after
+    `warm_steps` steps (compilation, and the steady state: see the module docstring), over runs of
+    STEP_WORK / n steps (at least MIN_TIMED_STEPS). The repeats are rounds over the steppers, so
+    a burst of load from elsewhere lands on one run of each rather than on every run of one."""
+    advances = {name: STEPPERS[name](scene) for name in names}
+    chunk = max(1, STEP_WORK // scene.world.n)   # collisim records each frame: warm up in runs this long
+    for advance in advances.values():
+        for done in range(0, warm_steps, chunk):
+            advance(min(chunk, warm_steps - done))
+    steps = max(MIN_TIMED_STEPS, STEP_WORK // scene.world.n)
+    seconds = {name: [] for name in names}
     for _ in range(repeats):
-        start = time.perf_counter()
-        stepper.run(steps)
-        seconds.append((time.perf_counter() - start) / steps)
-    return float(np.median(seconds))
+        for name, advance in advances.items():
+            start = time.perf_counter()
+            advance(steps)
+            seconds[name].append((time.perf_counter() - start) / steps)
+    return {name: float(np.median(values)) for name, values in seconds.items()}
+
+
+def time_discrete_step(scene, repeats: int) -> float:
+    """Median seconds per step of collisim's discrete engine (grid) over a run of steps."""
+    return time_whole_steps(scene, repeats, ("discrete_step",))["discrete_step"]
 
 
 def time_pymunk(scene, repeats: int) -> float:
-    """Median seconds per pymunk Space.step(1/60) on the same gas, built by collisim's mirror
-    (same masses and radii, elasticity 1, friction 0, walls) with Chipmunk's default 10 solver
-    iterations, over a run of steps."""
-    from collisim.analysis.reference.pymunk_mirror import Mirror
+    """Median seconds per plain pymunk space.step(1/60) on the same gas (pymunk_stepper)."""
+    return time_whole_steps(scene, repeats, ("pymunk_step",))["pymunk_step"]
 
-    space = Mirror(scene.world, iterations=10).space
-    space.step(1 / 60)
-    steps = max(5, STEP_WORK // scene.world.n)
-    seconds = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        for _ in range(steps):
-            space.step(1 / 60)
-        seconds.append((time.perf_counter() - start) / steps)
-    return float(np.median(seconds))
+
+def time_reference_step(scene, repeats: int) -> float:
+    """Median seconds per step of the minimal compiled step on the same gas."""
+    return time_whole_steps(scene, repeats, ("reference_step",))["reference_step"]
 
 
 def warm_up() -> None:
@@ -165,18 +213,29 @@ def measure(sizes, packing: float, repeats: int, seed: int, progress: bool) -> l
             rows.append(dict(method="scipy_ckdtree", n=n, seconds_per_frame=seconds,
                              candidates=found, true_pairs=true_pairs))
             bar.update()
-            gas = moving_gas(n, packing, seed)
-            for name, timer in (("pymunk_step", time_pymunk), ("discrete_step", time_discrete_step)):
-                bar.set_postfix_str(f"n={n} {name}")
-                rows.append(dict(method=name, n=n, seconds_per_frame=timer(gas, repeats), candidates="",
-                                 true_pairs=""))
+            bar.set_postfix_str(f"n={n} whole steps")
+            for name, seconds in time_whole_steps(moving_gas(n, packing, seed), repeats).items():
+                rows.append(dict(method=name, n=n, seconds_per_frame=seconds, candidates="", true_pairs=""))
                 bar.update()
+    return add_ratios(rows)
+
+
+def add_ratios(rows: list[dict]) -> list[dict]:
+    """Fill ns_per_particle on every row, and the discrete step's ratios to the two step
+    references (blank on the other rows)."""
+    time_of = {(row["method"], row["n"]): row["seconds_per_frame"] for row in rows}
+    for row in rows:
+        row["ns_per_particle"] = 1e9 * row["seconds_per_frame"] / row["n"]
+        row["step_over_pymunk"] = row["step_over_reference"] = ""
+        if row["method"] == "discrete_step":
+            row["step_over_pymunk"] = row["seconds_per_frame"] / time_of[("pymunk_step", row["n"])]
+            row["step_over_reference"] = row["seconds_per_frame"] / time_of[("reference_step", row["n"])]
     return rows
 
 
 def write_csv(rows: list[dict], path: pathlib.Path) -> None:
     with open(path, "w", newline="") as file:
-        writer = csv.DictWriter(file, fieldnames=["method", "n", "seconds_per_frame", "candidates", "true_pairs"])
+        writer = csv.DictWriter(file, fieldnames=COLUMNS)
         writer.writeheader()
         writer.writerows(rows)
 
@@ -190,7 +249,8 @@ def plot(rows: list[dict], path: pathlib.Path, packing: float) -> None:
     FigureCanvasAgg(figure)
     axes = figure.add_subplot()
     labels = {"scipy_ckdtree": "scipy cKDTree build + query_pairs",
-              "pymunk_step": "pymunk Space.step: a whole step of a moving gas",
+              "pymunk_step": "plain pymunk Space.step (defaults, no callbacks): a whole step of a moving gas",
+              "reference_step": "minimal compiled step (reference_step.py): the same gas",
               "discrete_step": "collisim discrete step (grid): a whole step of the same gas"}
     for method in (*NAMES, *REFERENCES):
         mine = [row for row in rows if row["method"] == method]
@@ -203,7 +263,7 @@ def plot(rows: list[dict], path: pathlib.Path, packing: float) -> None:
     axes.set_ylabel("seconds per frame")
     axes.set_title(f"Broad phases on a random gas, whole steps on a moving gas (packing {packing:g})")
     axes.grid(True, which="both", alpha=0.3)
-    axes.legend()
+    axes.legend(fontsize=8)
     figure.tight_layout()
     figure.savefig(path)
 
@@ -220,10 +280,13 @@ def fastest_vs_ckdtree(rows: list[dict]) -> dict:
 
 
 def discrete_vs_pymunk(rows: list[dict]) -> dict:
-    """For each n: collisim's whole discrete step divided by pymunk's."""
-    time_of = {(row["method"], row["n"]): row["seconds_per_frame"] for row in rows}
-    return {n: time_of[("discrete_step", n)] / time_of[("pymunk_step", n)]
-            for n in sorted({row["n"] for row in rows})}
+    """For each n: collisim's whole discrete step divided by plain pymunk's."""
+    return {row["n"]: row["step_over_pymunk"] for row in rows if row["method"] == "discrete_step"}
+
+
+def discrete_vs_reference(rows: list[dict]) -> dict:
+    """For each n: collisim's whole discrete step divided by the minimal compiled step's."""
+    return {row["n"]: row["step_over_reference"] for row in rows if row["method"] == "discrete_step"}
 
 
 def run(out_dir: pathlib.Path, sizes=(100, 300, 1000, 3000, 10000, 30000, 100000), packing=0.1,
@@ -232,7 +295,8 @@ def run(out_dir: pathlib.Path, sizes=(100, 300, 1000, 3000, 10000, 30000, 100000
 
     Returns {"csv": path, "png": path, "rows": [CSV rows as dicts],
     "fastest_vs_ckdtree": {n: {"method": name, "ratio": fastest / cKDTree time}},
-    "discrete_vs_pymunk": {n: collisim step / pymunk step}}.
+    "discrete_vs_pymunk": {n: collisim step / plain pymunk step},
+    "discrete_vs_reference": {n: collisim step / minimal compiled step}}.
     """
     out_dir = pathlib.Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
@@ -242,5 +306,5 @@ def run(out_dir: pathlib.Path, sizes=(100, 300, 1000, 3000, 10000, 30000, 100000
     write_csv(rows, csv_path)
     plot(rows, png_path, packing)
     return {"csv": csv_path, "png": png_path, "rows": rows, "fastest_vs_ckdtree": fastest_vs_ckdtree(rows),
-            "discrete_vs_pymunk": discrete_vs_pymunk(rows)}
+            "discrete_vs_pymunk": discrete_vs_pymunk(rows), "discrete_vs_reference": discrete_vs_reference(rows)}
 

@@ -1,0 +1,217 @@
+"""pymunk as a user would run it: the speed baseline of collisim's benchmarks.
+
+`pymunk_mirror` sets Chipmunk up to match collisim's physics as closely as it can and records
+every contact through Python callbacks (begin and post_solve), with a tiny slop, almost no
+overlap bias and 30 solver iterations. That is the right tool to check physics, and the wrong
+one to time: in `collisim bench accuracy` its steps cost 1.9–7.6 × plain pymunk's at one
+substep (measured). This module builds the Space a user would write for the same World, and
+times `space.step` and nothing else.
+
+What it sets up
+---------------
+* one dynamic `pymunk.Body(mass, moment)` per circle with the World's mass and moment of
+  inertia (½·m·r², `World.inertias`), angle and spin, and a `pymunk.Circle` on it;
+* elasticity = the World's restitution on every shape (Chipmunk multiplies the two shapes'
+  elasticities, so two particles meet with e², a particle and a wall with e: what a user gets;
+  the workloads are elastic, e = 1, where the two agree), friction 0;
+* the box as four static segments of radius 0 lying on its edges, each on its own static body
+  (a static body costs nothing in a step; it only lets a recorded run tell the walls apart),
+  and the World's thin segments (a map's exact outline included) as static segments of radius
+  0, each on its own static body as well;
+* space.gravity = the World's gravity (per-particle accelerations need a velocity function per
+  body, a Python call per body per step: pymunk offers nothing cheaper);
+* everything else left at Chipmunk's defaults: no collision handler, collision_slop 0.1,
+  collision_bias (10 % of an overlap corrected per 1/60 s), 10 iterations, damping 1,
+  collision_persistence 3, the default spatial index, no sleeping.
+
+A frame of k substeps is k calls of `space.step(1 / (fps·k))`. `time_steps` times exactly those
+calls. A recorded run (`record`) also reads, after each step, every body's position and velocity
+and every touching arbiter through pymunk's batch API (no callbacks in the Space), which costs
+Python time a user who only steps would not pay: recorded runs are for accuracy, never timed.
+
+From the arbiters a recorded run gets what the mirror's callbacks give: a contact counts once
+when it begins (`is_first_contact`, as Chipmunk's begin callback), and each step with a non-zero
+impulse is an event with the arbiter's total impulse, at the midpoint of the first contact's two
+surface points.
+
+Thin walls are what a user writes, and they are why a fast gas needs substeps here: a circle
+whose centre passes a wall's line within one step is pushed out of the box (a radius-0 segment
+is two-sided), and then flies away. `pymunk_mirror` uses thick walls so that its comparisons are
+about pair physics; the baseline keeps what a user would get.
+"""
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+import pymunk
+import pymunk.batch
+
+from ...model.kinds import PAIR, SEGMENT, WALL
+from ...model.trajectory import Events, Trajectory
+
+_BODY_FIELDS = pymunk.batch.BodyFields.POSITION | pymunk.batch.BodyFields.VELOCITY
+_A = pymunk.batch.ArbiterFields
+_ARBITER_FIELDS = (_A.BODY_A_ID | _A.BODY_B_ID | _A.IS_FIRST_CONTACT | _A.CONTACT_COUNT | _A.TOTAL_IMPULSE
+                   | _A.POINT_A_1 | _A.POINT_B_1)
+
+
+class PlainPymunk:
+    """A default pymunk Space holding a World (see the module docstring)."""
+
+    def __init__(self, world):
+        self.world = world
+        self.space = pymunk.Space()
+        if world.uniform_acceleration:
+            self.space.gravity = tuple(float(a) for a in (world.accelerations[0] if world.n else world.gravity))
+        e = float(world.restitution)
+        self.bodies = []
+        for i in range(world.n):
+            body = pymunk.Body(float(world.masses[i]), float(world.inertias[i]))
+            body.position = tuple(world.positions[i])
+            body.velocity = tuple(world.velocities[i])
+            body.angle = float(world.angles[i])
+            body.angular_velocity = float(world.angular_velocities[i])
+            if not world.uniform_acceleration:
+                body.velocity_func = _constant_acceleration(tuple(world.accelerations[i]))
+            circle = pymunk.Circle(body, float(world.radii[i]))
+            circle.elasticity, circle.friction = e, 0.0
+            self.space.add(body, circle)
+            self.bodies.append(body)
+        xmin, ymin, xmax, ymax = (float(v) for v in world.box)
+        # collisim's wall order: left, right, bottom, top
+        edges = [(xmin, ymin, xmin, ymax), (xmax, ymin, xmax, ymax), (xmin, ymin, xmax, ymin), (xmin, ymax, xmax, ymax)]
+        self.walls = [self._static_segment(edge, e) for edge in edges]
+        self.segments = [self._static_segment(segment, e) for segment in world.level_segments]
+
+    def _static_segment(self, ends, elasticity: float) -> pymunk.Body:
+        x0, y0, x1, y1 = (float(v) for v in ends)
+        body = pymunk.Body(body_type=pymunk.Body.STATIC)
+        shape = pymunk.Segment(body, (x0, y0), (x1, y1), 0.0)
+        shape.elasticity, shape.friction = elasticity, 0.0
+        self.space.add(body, shape)
+        return body
+
+    # --- stepping ------------------------------------------------------------------------------
+
+    def time_steps(self, fps: float, frames: int, substeps: int = 1) -> float:
+        """Advance `frames` frames of `substeps` calls of space.step each: wall seconds spent in
+        those calls (nothing is read or recorded)."""
+        step, dt = self.space.step, 1.0 / fps / substeps
+        start = time.perf_counter()
+        for _ in range(frames * substeps):
+            step(dt)
+        return time.perf_counter() - start
+
+    def state(self) -> tuple:
+        """(positions (n, 2), velocities (n, 2)) in the World's order, read in one batch call."""
+        n = self.world.n
+        buffer = pymunk.batch.Buffer()
+        pymunk.batch.get_space_bodies(self.space, _BODY_FIELDS, buffer)
+        # one row (x, y, vx, vy) per dynamic body, in the order they were added
+        rows = np.frombuffer(buffer.float_buf(), np.float64)[:4 * n].reshape(n, 4)
+        return rows[:, :2].copy(), rows[:, 2:].copy()
+
+    def record(self, fps: float, frames: int, substeps: int = 1) -> Trajectory:
+        """Advance `frames` frames and record every frame and every contact (see the module
+        docstring); profile["step"] is the time spent in space.step alone."""
+        n, dt = self.world.n, 1.0 / fps / substeps
+        positions, velocities = np.empty((frames + 1, n, 2)), np.empty((frames + 1, n, 2))
+        counts = np.zeros((frames + 1, 3), np.int64)
+        positions[0], velocities[0] = self.state()
+        reader = _ArbiterReader(self)
+        spent = 0.0
+        for frame in range(1, frames + 1):
+            for sub in range(substeps):
+                start = time.perf_counter()
+                self.space.step(dt)
+                spent += time.perf_counter() - start
+                counts[frame] += reader.read(((frame - 1) * substeps + sub + 1) * dt)
+            positions[frame], velocities[frame] = self.state()
+        w = self.world
+        angles = np.broadcast_to(w.angles, (frames + 1, n)).copy()   # positions only: see the docstring
+        spins = np.broadcast_to(w.angular_velocities, (frames + 1, n)).copy()
+        return Trajectory(times=np.arange(frames + 1) / fps, positions=positions, velocities=velocities,
+                          angles=angles, angular_velocities=spins, wall_collisions=counts[:, WALL],
+                          pair_collisions=counts[:, PAIR], segment_collisions=counts[:, SEGMENT],
+                          candidates=np.zeros(frames + 1, np.int64), approximate=np.zeros(frames + 1, bool),
+                          world=w, fps=fps, events=reader.events(), method="pymunk", broadphase="",
+                          substeps=substeps, profile={"step": spent})
+
+    def installed_handlers(self) -> int:
+        """How many collision handlers the Space holds (0: no callback runs in a step)."""
+        return len(getattr(self.space, "_handlers", {}))
+
+
+class _ArbiterReader:
+    """Reads the touching arbiters after a step (pymunk.batch, no callbacks)."""
+
+    def __init__(self, plain: PlainPymunk):
+        self.buffer = pymunk.batch.Buffer()
+        self.space = plain.space
+        kinds = {body.id: (PAIR, i) for i, body in enumerate(plain.bodies)}
+        kinds.update({body.id: (WALL, i) for i, body in enumerate(plain.walls)})
+        kinds.update({body.id: (SEGMENT, i) for i, body in enumerate(plain.segments)})
+        self.kinds = kinds
+        self.rows = []
+
+    def read(self, t: float) -> np.ndarray:
+        """Counts of contacts begun in this step, by kind; keeps an event per arbiter with impulse."""
+        counts = np.zeros(3, np.int64)
+        self.buffer.clear()
+        pymunk.batch.get_space_arbiters(self.space, _ARBITER_FIELDS, self.buffer)
+        ints = np.frombuffer(self.buffer.int_buf(), np.int64).reshape(-1, 4)        # a, b, first, contacts
+        floats = np.frombuffer(self.buffer.float_buf(), np.float64).reshape(-1, 6)  # impulse, point a, point b
+        for (a, b, first, contacts), (jx, jy, ax, ay, bx, by) in zip(ints.tolist(), floats.tolist()):
+            if contacts == 0:          # a cached arbiter of a pair no longer touching
+                continue
+            kind_a, i = self.kinds[a]
+            kind_b, j = self.kinds[b]
+            if kind_a != PAIR:         # the particle first
+                kind_a, i, kind_b, j = kind_b, j, kind_a, i
+            kind = kind_b
+            if kind == PAIR and j < i:
+                i, j = j, i
+            counts[kind] += first
+            impulse = math.hypot(jx, jy)
+            if impulse > 0.0:
+                self.rows.append((t, kind, i, j, impulse, 0.5 * (ax + bx), 0.5 * (ay + by)))
+        return counts
+
+    def events(self) -> Events:
+        if not self.rows:
+            return Events.empty()
+        t, kind, i, j, impulse, x, y = (np.array(column) for column in zip(*self.rows))
+        return Events.concatenate([Events(t.astype(np.float64), kind.astype(np.int8), i.astype(np.intp),
+                                          j.astype(np.intp), impulse.astype(np.float64),
+                                          np.column_stack([x, y]).astype(np.float64))])
+
+
+def _constant_acceleration(acceleration):
+    """A velocity function that applies this particle's own acceleration instead of gravity."""
+    def update(body, gravity, damping, dt):
+        pymunk.Body.update_velocity(body, acceleration, damping, dt)
+    return update
+
+
+def _checked_substeps(scene, substeps) -> int:
+    if scene.world is None:
+        raise ValueError(f"scene '{scene.name}' is made of panels; run each panel's scene")
+    substeps = scene.substeps if substeps is None else substeps
+    if int(substeps) != substeps or substeps < 1:
+        raise ValueError(f"substeps must be a whole number >= 1, got {substeps}")
+    return int(substeps)
+
+
+def time_plain_pymunk(scene, substeps=None) -> float:
+    """Wall seconds of plain pymunk's space.step calls for the whole scene (building the Space,
+    a few milliseconds of Python, is not counted)."""
+    substeps = _checked_substeps(scene, substeps)
+    return PlainPymunk(scene.world).time_steps(scene.fps, scene.frames, substeps)
+
+
+def simulate_plain_pymunk(scene, substeps=None) -> Trajectory:
+    """The scene stepped by plain pymunk, recorded frame by frame (for accuracy, not for timing)."""
+    substeps = _checked_substeps(scene, substeps)
+    return PlainPymunk(scene.world).record(scene.fps, scene.frames, substeps)

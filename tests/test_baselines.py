@@ -1,0 +1,175 @@
+"""The benchmarks' speed baselines: plain pymunk as a user would run it, and the minimal compiled
+reference step. Both must be the physics they claim to be, or the ratios against them mean nothing."""
+import csv
+
+import numpy as np
+import pymunk
+import pytest
+
+import collisim
+from collisim.analysis.bench import broadphase
+from collisim.analysis.bench.reference_step import ReferenceStep
+from collisim.analysis.reference import PlainPymunk, simulate_plain_pymunk, simulate_pymunk, time_plain_pymunk
+from collisim.analysis.reference.pymunk_mirror import Mirror
+from collisim.gas import lattice_gas
+from collisim.model.kinds import PAIR, WALL
+
+
+def head_on(gravity=(0.0, 0.0)):
+    """Two circles of different sizes (so different masses) closing at 6 units/s, 6 apart."""
+    return collisim.World([[2.0, 5.0], [8.0, 5.0]], [[3.0, 0.0], [-3.0, 0.0]], [0.6, 0.8],
+                          box=(0.0, 0.0, 10.0, 10.0), gravity=gravity)
+
+
+# --- plain pymunk ----------------------------------------------------------------------------
+
+def test_plain_pymunk_builds_the_same_world_with_pymunk_defaults():
+    world = collisim.World([[2.0, 5.0], [8.0, 5.0], [5.0, 2.0]], [[3.0, 0.0], [-3.0, 1.0], [0.0, 0.5]],
+                           [0.6, 0.8, 0.5], box=(0.0, 0.0, 10.0, 8.0), gravity=(0.0, -9.8), restitution=0.9,
+                           segments=[[1.0, 1.0, 4.0, 1.5]])
+    plain = PlainPymunk(world)
+    space, defaults = plain.space, pymunk.Space()
+    assert tuple(space.gravity) == (0.0, -9.8)
+    assert (space.collision_slop, space.collision_bias, space.iterations, space.damping) == \
+        (defaults.collision_slop, defaults.collision_bias, defaults.iterations, defaults.damping)
+    dynamic = [body for body in space.bodies if body.body_type == pymunk.Body.DYNAMIC]
+    assert dynamic == plain.bodies and len(dynamic) == 3
+    for i, body in enumerate(dynamic):
+        assert body.mass == pytest.approx(world.masses[i], rel=1e-15)
+        assert body.moment == pytest.approx(world.inertias[i], rel=1e-15)    # ½·m·r², not infinite
+        assert tuple(body.position) == tuple(world.positions[i])
+        assert tuple(body.velocity) == tuple(world.velocities[i])
+        (circle,) = body.shapes
+        assert isinstance(circle, pymunk.Circle) and circle.radius == world.radii[i]
+        assert (circle.elasticity, circle.friction) == (0.9, 0.0)
+    statics = [shape for shape in space.shapes if shape.body.body_type == pymunk.Body.STATIC]
+    assert len(statics) == 4 + 1 and all(isinstance(s, pymunk.Segment) and s.radius == 0 for s in statics)
+    assert all((s.elasticity, s.friction) == (0.9, 0.0) for s in statics)
+    ends = {(tuple(s.a), tuple(s.b)) for s in statics}
+    assert ends == {((0, 0), (0, 8)), ((10, 0), (10, 8)), ((0, 0), (10, 0)), ((0, 8), (10, 8)), ((1, 1), (4, 1.5))}
+
+
+def test_plain_pymunk_installs_no_collision_handler():
+    world = head_on()
+    plain = PlainPymunk(world)
+    assert plain.installed_handlers() == 0 and plain.space._handlers == {}
+    assert len(Mirror(world).space._handlers) == 3      # the check would see the mirror's callbacks
+    simulate_plain_pymunk(collisim.Scene(world=world, fps=60, seconds=0.5))   # recording adds none either
+    assert PlainPymunk(world).space._handlers == {}
+
+
+def test_free_flight_under_gravity_agrees_with_the_mirror_bit_for_bit():
+    """Both are Chipmunk's semi-implicit Euler in doubles with the same dt: before any contact
+    the two Spaces do exactly the same arithmetic (the moments differ, but nothing turns)."""
+    world = collisim.World([[3.0, 8.0], [7.0, 6.0]], [[1.0, 2.0], [-1.0, 0.0]], 0.5, box=(0.0, 0.0, 10.0, 10.0),
+                           gravity=(0.0, -9.8))
+    scene = collisim.Scene(world=world, fps=60, seconds=0.5)        # both still in the air at 0.5 s
+    plain, mirror = simulate_plain_pymunk(scene), simulate_pymunk(scene)
+    assert plain.collisions.sum() == mirror.collisions.sum() == 0
+    assert np.array_equal(plain.positions, mirror.positions)
+    assert np.array_equal(plain.velocities, mirror.velocities)
+
+
+def test_one_collision_agrees_with_the_mirror():
+    """An isolated elastic contact is solved exactly by Chipmunk whatever its settings: the
+    velocities after it agree to round-off (1e-12 of the speeds). The positions do not: the
+    mirror removes the overlap found at detection in the next step, plain pymunk leaves an
+    overlap under its 0.1 slop, so they differ by at most that overlap, which is at most the
+    distance the pair closes in one step (6 units/s × 1/60 s = 0.1)."""
+    scene = collisim.Scene(world=head_on(), fps=60, seconds=1.2)     # one pair contact, no wall yet
+    plain, mirror = simulate_plain_pymunk(scene), simulate_pymunk(scene)
+    assert plain.pair_collisions.sum() == mirror.pair_collisions.sum() == 1
+    assert plain.wall_collisions.sum() == mirror.wall_collisions.sum() == 0
+    assert np.allclose(plain.velocities[-1], mirror.velocities[-1], rtol=0, atol=1e-12 * 3.0)
+    closing_per_step = 6.0 / 60
+    assert np.abs(plain.positions - mirror.positions).max() <= closing_per_step
+    # the recorded events: the same impulse at the same step, between the same pair
+    (p,), (m,) = (np.flatnonzero(t.events.kind == PAIR) for t in (plain, mirror))
+    assert plain.events.time[p] == mirror.events.time[m]
+    assert plain.events.impulse[p] == pytest.approx(mirror.events.impulse[m], rel=1e-12)
+    assert (plain.events.i[p], plain.events.j[p]) == (0, 1)
+
+
+def test_walls_are_thin_and_a_fast_particle_escapes_through_one():
+    """What a user's thin static segment does: a centre that crosses the wall's line within one
+    step is pushed out (the segment is two-sided) and the particle is lost; with 8 substeps it
+    bounces. The mirror's thick walls keep it in either way."""
+    world = collisim.World([[5.0, 5.0]], [[200.0, 0.0]], 0.5, box=(0.0, 0.0, 10.0, 10.0))
+    scene = collisim.Scene(world=world, fps=60, seconds=0.05)          # 3.3 units a frame: 2 radii to cross
+    assert simulate_plain_pymunk(scene).positions[-1, 0, 0] > 10.0
+    assert simulate_pymunk(scene).positions[-1, 0, 0] < 10.0
+    bounced = simulate_plain_pymunk(scene, substeps=8)
+    assert bounced.positions[-1, 0, 0] < 10.0 and bounced.wall_collisions.sum() == 1
+    assert bounced.events.kind[0] == WALL and bounced.events.j[0] == 1     # the right wall
+
+
+def test_timing_a_plain_run_steps_the_space_only():
+    scene = collisim.Scene(world=head_on(), fps=60, seconds=0.5)
+    assert time_plain_pymunk(scene, substeps=2) > 0
+    plain = PlainPymunk(scene.world)
+    plain.time_steps(60, 30)
+    recorded = PlainPymunk(scene.world).record(60, 30)
+    assert np.array_equal(plain.state()[0], recorded.positions[-1])   # recording changes nothing
+    with pytest.raises(ValueError, match="substeps"):
+        time_plain_pymunk(scene, substeps=0)
+
+
+# --- the reference step ------------------------------------------------------------------------
+
+def test_reference_step_head_on_equal_masses_swap_velocities():
+    step = ReferenceStep([[4.0, 5.0], [6.0, 5.0]], [[1.0, 0.0], [-1.0, 0.0]], 0.5, 1.0, (0.0, 0.0, 10.0, 10.0),
+                         dt=0.1)
+    step.run(8)       # they touch after 5 steps and part
+    assert np.allclose(step.velocities, [[-1.0, 0.0], [1.0, 0.0]], rtol=0, atol=1e-15)
+
+
+def test_reference_step_keeps_energy_and_every_particle_in_the_box():
+    """An elastic gas without gravity at packing 0.27 (nearly every particle collides within the
+    first 15 steps), 400 steps: each impulse conserves kinetic energy exactly in exact arithmetic, the
+    push-apart moves positions only and a wall reflection keeps the speed, so the energy can
+    change by round-off alone: ~1e-16 per collision, a few thousand collisions, well under 1e-12
+    (a wrong mass factor in the impulse would change it by 1e-2 or more)."""
+    box = (0.0, 0.0, 20.0, 20.0)
+    n = 360
+    positions, velocities, radii = lattice_gas(n, box=box, speed=6.0, seed=3)
+    masses = np.pi * radii ** 2
+    step = ReferenceStep(positions, velocities, radii, masses, box, dt=1 / 60)
+    energy = step.kinetic_energy()
+    speeds = np.linalg.norm(velocities, axis=1)
+    for _ in range(40):
+        step.run(10)
+        inside = (step.positions >= np.asarray(box[:2]) + radii[:, None]) & \
+                 (step.positions <= np.asarray(box[2:]) - radii[:, None])
+        assert inside.all()
+    assert abs(step.kinetic_energy() - energy) <= 1e-12 * energy
+    changed = np.abs(np.linalg.norm(step.velocities, axis=1) - speeds) > 1e-6 * speeds
+    assert changed.mean() > 0.9       # they did collide: only pair impulses change a speed
+    assert np.array_equal(np.sort(step.data[6]), np.arange(n))      # every particle still there once
+
+
+# --- the benches' new columns -----------------------------------------------------------------
+
+def test_broadphase_bench_reports_plain_pymunk_and_the_reference_step(tmp_path):
+    figures = broadphase.run(tmp_path, sizes=(50, 200), repeats=1, progress=False)
+    with open(figures["csv"], newline="") as file:
+        rows = list(csv.DictReader(file))
+    assert tuple(rows[0]) == broadphase.COLUMNS
+    assert {"pymunk_step", "reference_step", "discrete_step"} <= {row["method"] for row in rows}
+    for n in (50, 200):
+        time_of = {row["method"]: float(row["seconds_per_frame"]) for row in rows if row["n"] == str(n)}
+        (step,) = (row for row in rows if row["n"] == str(n) and row["method"] == "discrete_step")
+        assert float(step["step_over_pymunk"]) == pytest.approx(time_of["discrete_step"] / time_of["pymunk_step"])
+        assert float(step["step_over_reference"]) == pytest.approx(time_of["discrete_step"] / time_of["reference_step"])
+        assert figures["discrete_vs_reference"][n] == pytest.approx(float(step["step_over_reference"]))
+        assert figures["discrete_vs_pymunk"][n] == pytest.approx(float(step["step_over_pymunk"]))
+        assert float(step["ns_per_particle"]) == pytest.approx(1e9 * time_of["discrete_step"] / n)
+    assert all(row["step_over_pymunk"] == "" for row in rows if row["method"] != "discrete_step")
+
+
+def test_broadphase_pymunk_baseline_is_plain_pymunk(monkeypatch):
+    """The timed Space is plain pymunk's: the mirror is never built for the speed baseline."""
+    built = []
+    monkeypatch.setattr("collisim.analysis.reference.pymunk_mirror.Mirror.__init__",
+                        lambda self, *a, **k: built.append(self))
+    scene = broadphase.moving_gas(50, 0.1, 0)
+    assert broadphase.time_pymunk(scene, 1) > 0 and built == []
