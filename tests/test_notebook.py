@@ -29,7 +29,7 @@ def test_show_in_a_notebook(tmp_path):
     notebook = nbformat.v4.new_notebook()
     notebook.cells = [
         nbformat.v4.new_code_cell("import collisim"),
-        nbformat.v4.new_code_cell('scene = collisim.load_scene("two_bodies").replace(seconds=0.5)\n'
+        nbformat.v4.new_code_cell('scene = collisim.load_scene("single_bounce").replace(seconds=0.5)\n'
                                   "collisim.show(scene)"),
     ]
     # the kernel is ipykernel's own spec, which runs this interpreter (the venv's), whatever
@@ -42,7 +42,7 @@ def test_show_in_a_notebook(tmp_path):
     html = next(o["data"]["text/html"] for o in outputs if "text/html" in o.get("data", {}))
     assert "<video controls autoplay loop muted" in html
     count, width, height, rate, codec, _ = embedded_video(html, tmp_path)
-    scene = collisim.load_scene("two_bodies").replace(seconds=0.5)
+    scene = collisim.load_scene("single_bounce").replace(seconds=0.5)
     assert (count, width, height, codec) == (scene.frames, 640, 360, "h264")
 
 
