@@ -1,16 +1,19 @@
-"""Discrete collision detection: step, then look for contacts at the end of the step.
+"""Discrete collision detection: contacts found at the start of each step, solved, then the step.
 
 One step of dt is the pipeline below, each phase timed into the profile (engine/profile.py):
 
-    integrate     p += v·dt + ½·a·dt², v += a·dt, θ += ω·dt
-    broad         candidate pairs from the bodies' bounding boxes (any of the five broad phases)
-    narrow        keep the candidates that really touch (narrowphase/registry.py)
-    response      impulses, then overlap removal, in sorted pair order (response/pairs.py)
+    broad         candidate pairs from the bodies' bounding boxes grown by their speculative
+                  margins (any of the five broad phases)
+    narrow        contact rows: pairs within their margins, bodies held by a wall
+                  (response/rows.py)
+    response      impacts (Newton's impulse), then the contact solver: warm-started sequential
+                  impulses and split-impulse position correction (response/solver.py)
+    integrate     p += v·dt + ½·a·dt², v += a·dt, θ += ω·dt, plus the solver's share; then
+                  contacts that pressed come to rest (response)
     statics       segments near each body (statics/segment_index.py), the collision map
                   (each step's move marched through its distance field), then the box walls
-    settle        a wall bounce may push a body back into its partner: separate this step's
-                  contacts again and keep every body in the box and out of the map
-                  (positions only)
+                  (a body the solver held against a wall is kept on it, not bounced)
+    settle        keep bodies out of the map (positions only)
     record        the frame's state into the trajectory
 
 A frame is k substeps of dt/k. The whole block of frames runs as one compiled call (a Python
@@ -25,12 +28,13 @@ import numpy as np
 from numba import njit
 
 from ..broadphase.step import AUTO, candidate_pairs, choose, step_state
-from ..geometry.box import centre_range, clamp_into_box
+from ..geometry.box import centre_range
 from ..model.kinds import MAP, PAIR, SEGMENT, WALL
-from ..narrowphase.registry import touching_pairs
 from ..narrowphase.statics import segment_contacts
 from ..response.map import bounce_off_map, push_out
-from ..response.pairs import resolve_pairs, separate_pairs
+from ..response.rows import margins, new_rows, pair_rows, wall_rows
+from ..response.solver import collide, come_to_rest, solve_positions, solve_velocities
+from ..response.warmstart import no_memory, recall, remember
 from ..response.statics import bounce_between_walls, bounce_off_segment
 from ..statics.map_field import has_map, no_map_field
 from ..statics.segment_index import build_segment_index
@@ -39,10 +43,15 @@ from .integrate import integrate
 from .profile import Profile, cycles
 
 INTEGRATE, BROAD, NARROW, RESPONSE, STATICS, SETTLE, RECORD, TOTAL = range(8)
+ITERATIONS = 20   # sweeps of the contact solver per step (response/solver.py)
 
 Bodies = namedtuple("Bodies", ["shapes", "positions", "velocities", "angles", "angular_velocities",
                                "accelerations", "radii", "masses"])
-Statics = namedtuple("Statics", ["box", "segments", "index", "map", "restitution"])
+Statics = namedtuple("Statics", ["box", "segments", "index", "map", "restitution", "rest_speed", "iterations"],
+                     defaults=(0.0, ITERATIONS))
+Statics.__doc__ = """What bodies meet besides each other: box (4,), segments (m, 4) and their index, the
+collision map's field; and how contacts respond: restitution e, the rest speed below which a
+contact rests instead of bouncing, and the solver's sweeps per step."""
 Frames = namedtuple("Frames", ["positions", "velocities", "angles", "angular_velocities", "collisions",
                                "candidates", "approximate"])
 Frames.__doc__ = """A block of frames: positions, velocities (f, n, 2); angles, angular_velocities (f, n);
@@ -58,12 +67,14 @@ def _lap(phase_cycles, phase, since):
 
 
 @njit(cache=True)
-def _bounds(bodies, lo, hi):
-    """Each body's bounding box (n, 2) lo, hi from its shape (circles: centre ± radius)."""
+def _bounds(bodies, margin, lo, hi):
+    """Each body's bounding box (n, 2) lo, hi from its shape (circles: centre ± radius), grown by
+    its speculative margin (n,)."""
     for i in range(bodies.positions.shape[0]):
+        reach = bodies.radii[i] + margin[i]
         for axis in range(2):
-            lo[i, axis] = bodies.positions[i, axis] - bodies.radii[i]
-            hi[i, axis] = bodies.positions[i, axis] + bodies.radii[i]
+            lo[i, axis] = bodies.positions[i, axis] - reach
+            hi[i, axis] = bodies.positions[i, axis] + reach
 
 
 @njit(cache=True)
@@ -74,31 +85,53 @@ def sort_pairs(pairs, n):
 
 
 @njit(cache=True)
-def _pair_phases(bodies, statics, broad, lo, hi, log, now, frame_collisions, phase_cycles, t):
-    """broad, narrow and response: returns (contacts, candidates, log, t)."""
+def _contact_phases(bodies, statics, broad, dt, margin, lo, hi, phase_cycles, t):
+    """broad and narrow: the step's contact rows, from the state at its start. Returns
+    (rows, count, candidates, t)."""
     b = bodies
-    _bounds(b, lo, hi)
-    pairs = candidate_pairs(broad, lo, hi)
-    t = _lap(phase_cycles, BROAD, t)
-    contacts = sort_pairs(touching_pairs(b.shapes, b.positions, b.radii, pairs), lo.shape[0])
+    n = b.positions.shape[0]
+    margins(b.velocities, b.accelerations, b.radii, dt, margin)
+    pairs = np.empty((0, 2), np.int64)
+    if n >= 2:   # a lone body runs no pair phase
+        _bounds(b, margin, lo, hi)
+        pairs = sort_pairs(candidate_pairs(broad, lo, hi), n)
+        t = _lap(phase_cycles, BROAD, t)
+    rows = new_rows(pairs.shape[0] + 4 * n)
+    count = pair_rows(b.shapes, b.positions, b.velocities, b.masses, b.radii, margin, dt, pairs, rows)
+    in_pair = np.zeros(n, np.bool_)
+    for r in range(count):
+        in_pair[rows.i[r]] = in_pair[rows.j[r]] = True
+    count = wall_rows(b.positions, b.velocities, b.masses, b.radii, margin, statics.box, statics.rest_speed, in_pair,
+                      rows, count)
     t = _lap(phase_cycles, NARROW, t)
-    impulse, point = np.empty(contacts.shape[0]), np.empty((contacts.shape[0], 2))
-    frame_collisions[PAIR] += resolve_pairs(b.shapes, b.positions, b.velocities, b.masses, b.radii, contacts,
-                                            contacts.shape[0], statics.restitution, impulse, point)
-    log = with_room(log, contacts.shape[0])
-    for c in range(contacts.shape[0]):
-        if impulse[c] > 0.0:
-            append(log, now, PAIR, contacts[c, 0], contacts[c, 1], impulse[c], point[c, 0], point[c, 1])
-    t = _lap(phase_cycles, RESPONSE, t)
-    return contacts, pairs.shape[0], log, t
+    return rows, count, pairs.shape[0], t
+
+
+@njit(cache=True)
+def _log_contacts(rows, count, log, now, frame_collisions):
+    """Impacts between bodies, and every press of a wall (impacts and resting support, so a
+    wall's pressure includes the weight it holds), into the log; impacts counted."""
+    log = with_room(log, count)
+    for r in range(count):
+        impulse = rows.hit[r] + rows.impulse[r]
+        if rows.j[r] >= 0 and rows.hit[r] > 0.0:
+            append(log, now, PAIR, rows.i[r], rows.j[r], impulse, rows.point[r, 0], rows.point[r, 1])
+            frame_collisions[PAIR] += 1
+        elif rows.j[r] < 0 and impulse > 0.0:
+            append(log, now, WALL, rows.i[r], rows.wall[r], impulse, rows.point[r, 0], rows.point[r, 1])
+            if rows.hit[r] > 0.0:
+                frame_collisions[WALL] += 1
+    return log
 
 
 @njit(cache=True)
 def statics_scratch(n, m):
     """Buffers for statics_phase: segment contacts (room for one a body; grown when a step has
-    more), near segments (m,), and the positions (n, 2) at the start of the step (the map
-    marches each step's move from there)."""
-    return np.empty((n + 16, 2), np.int64), np.empty(max(m, 1), np.int64), np.empty((n, 2))
+    more), near segments (m,), the positions (n, 2) at the start of the step (the map
+    marches each step's move from there), and held (n, 2) bool: the axes on which the contact
+    solver held a body against a wall this step (it is clamped there, not bounced)."""
+    return (np.empty((n + 16, 2), np.int64), np.empty(max(m, 1), np.int64), np.empty((n, 2)),
+            np.zeros((n, 2), np.bool_))
 
 
 @njit(cache=True)
@@ -124,6 +157,9 @@ def statics_phase(bodies, statics, scratch, dt, log, now, frame_collisions):
             low, high = centre_range(s.box, axis, b.radii[i])
             if low <= b.positions[i, axis] <= high:
                 continue  # the extreme points are inside: no wall touched on this axis
+            if scratch[3][i, axis]:
+                b.positions[i, axis] = min(max(b.positions[i, axis], low), high)
+                continue  # held there by the solver: rounding past the wall is not a bounce
             low_bounces, high_bounces, low_impulse, high_impulse = bounce_between_walls(
                 b.positions, b.velocities, b.accelerations, b.radii, b.masses, s.box, s.restitution, i, axis)
             if low_bounces > 0:
@@ -158,16 +194,17 @@ def _log_wall(log, now, positions, box, i, axis, side, impulse):
 
 
 @njit(cache=True)
-def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, phase_cycles):
+def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, memory, phase_cycles):
     """Advance bodies in place by out's frame count, each frame `substeps` steps of dt, filling
-    out (Frames) and appending every collision to log. phase_cycles (8,) int64 receives the
-    cycles per phase and their total. Returns the log."""
+    out (Frames) and appending every collision to log. memory: the contacts' impulses of the
+    step before (response/warmstart.py). phase_cycles (8,) int64 receives the cycles per phase
+    and their total. Returns (log, memory)."""
     start = cycles()
     b, s = bodies, statics
     n = b.positions.shape[0]
-    lo, hi = np.empty((n, 2)), np.empty((n, 2))
+    lo, hi, margin = np.empty((n, 2)), np.empty((n, 2)), np.empty(n)
+    push, shift = np.zeros((n, 2)), np.zeros((n, 2))
     scratch = statics_scratch(n, s.segments.shape[0])
-    t = start
     for frame in range(out.positions.shape[0]):
         frame_collisions = out.collisions[frame]
         for _ in range(substeps):
@@ -176,20 +213,27 @@ def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, phase
             t = cycles()
             if has_map(s.map):
                 scratch[2][:] = b.positions
+            rows, count, candidates, t = _contact_phases(b, s, broad, dt, margin, lo, hi, phase_cycles, t)
+            out.candidates[frame] = candidates
+            collide(rows, count, b.velocities, b.accelerations, b.masses, s.restitution, s.rest_speed, dt, s.iterations)
+            recall(rows, count, memory, n)
+            free = solve_velocities(rows, count, b.velocities, b.accelerations, b.masses, dt, s.iterations, push)
+            solve_positions(rows, count, free, b.masses, dt, s.iterations, push, shift)
+            t = _lap(phase_cycles, RESPONSE, t)
             integrate(b.positions, b.velocities, b.accelerations, b.angles, b.angular_velocities, dt)
+            if count > 0:
+                add_contact_motion(b.positions, b.velocities, push, shift, dt)
             t = _lap(phase_cycles, INTEGRATE, t)
-            contacts = np.empty((0, 2), np.intp)
-            if n >= 2:
-                contacts, candidates, log, t = _pair_phases(b, s, broad, lo, hi, log, now, frame_collisions, phase_cycles, t)
-                out.candidates[frame] = candidates
+            come_to_rest(rows, count, b.velocities, b.masses, s.iterations)
+            log = _log_contacts(rows, count, log, now, frame_collisions)
+            memory = remember(rows, count, n)
+            _mark_held(rows, count, scratch[3])
+            t = _lap(phase_cycles, RESPONSE, t)
             log = statics_phase(b, s, scratch, dt, log, now, frame_collisions)
             t = _lap(phase_cycles, STATICS, t)
-            if contacts.shape[0] > 0:
-                separate_pairs(b.shapes, b.positions, b.masses, b.radii, contacts, contacts.shape[0])
-                clamp_into_box(b.positions, b.radii, s.box)
-                if has_map(s.map):
-                    for i in range(n):
-                        push_out(s.map, b.positions, b.radii[i], i)
+            if count > 0 and has_map(s.map):
+                for i in range(n):
+                    push_out(s.map, b.positions, b.radii[i], i)
                 t = _lap(phase_cycles, SETTLE, t)
         out.positions[frame] = b.positions
         out.velocities[frame] = b.velocities
@@ -198,7 +242,27 @@ def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, phase
             out.angular_velocities[frame] = b.angular_velocities
         t = _lap(phase_cycles, RECORD, t)
     phase_cycles[TOTAL] += cycles() - start
-    return log
+    return log, memory
+
+
+@njit(cache=True)
+def add_contact_motion(positions, velocities, push, shift, dt):
+    """The solver's share of the step (response/solver.py): the contact impulses, spread over the
+    step, move a body by push·dt and change its velocity by 2·push; the position correction
+    moves it by shift·dt. In place, (n, 2) each."""
+    for i in range(positions.shape[0]):
+        for axis in range(2):
+            positions[i, axis] += (push[i, axis] + shift[i, axis]) * dt
+            velocities[i, axis] += 2.0 * push[i, axis]
+
+
+@njit(cache=True)
+def _mark_held(rows, count, held):
+    """held (n, 2): the axes on which a wall row held each body this step."""
+    held[:] = False
+    for r in range(count):
+        if rows.j[r] < 0 and rows.impulse[r] > 0.0:
+            held[rows.i[r], rows.wall[r] // 2] = True
 
 
 def new_frames(count: int, n: int, turning: bool = True) -> Frames:
@@ -229,11 +293,15 @@ class DiscreteStepper:
                              w.angular_velocities.copy(), w.accelerations, w.radii, w.masses)
         index = build_segment_index(w.segments, w.box)
         field = no_map_field() if w.map is None else w.map.field
-        self.statics = Statics(w.box, w.segments, index, field, float(w.restitution))
+        self.dt = 1.0 / fps / substeps
+        # below this approach speed a contact rests instead of bouncing: twice what the
+        # acceleration adds in a step (0 without one, so a gas bounces at every speed)
+        pull = float(np.max(np.hypot(w.accelerations[:, 0], w.accelerations[:, 1]))) if w.n else 0.0
+        self.statics = Statics(w.box, w.segments, index, field, float(w.restitution), 2.0 * pull * self.dt)
+        self.memory = no_memory()
         self.broad = step_state(broadphase, world)
         chosen = f"{choose(world)} (auto)" if broadphase == AUTO else broadphase
         self.broadphase = chosen if w.n >= 2 else ""
-        self.dt = 1.0 / fps / substeps
         self.substeps = int(substeps)
         self.profile = profile or Profile()
         self.step_count = 0
@@ -244,8 +312,9 @@ class DiscreteStepper:
         b = self.bodies
         turning = bool(np.any(b.angular_velocities != 0.0))  # nothing exerts torque yet: ω stays as given
         out = new_frames(count, len(b.positions), turning)
-        log = self.profile.timed(lambda phase_cycles: run_frames(
-            b, self.statics, self.broad, self.dt, self.substeps, self.step_count, out, new_log(64), phase_cycles))
+        log, self.memory = self.profile.timed(lambda phase_cycles: run_frames(
+            b, self.statics, self.broad, self.dt, self.substeps, self.step_count, out, new_log(64), self.memory,
+            phase_cycles))
         self.step_count += count * self.substeps
         if not turning:
             out = constant_angles(out, b.angles.copy(), b.angular_velocities.copy())

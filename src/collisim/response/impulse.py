@@ -19,6 +19,13 @@ from numba import njit
 
 
 @njit(cache=True, error_model="numpy")
+def newton_impulse(approach, restitution, mass):
+    """Newton's impulse J = -(1 + e)·u·m for an approach speed u < 0 along the normal and the
+    pair's effective mass m = 1 / (1/m_i + 1/m_j)."""
+    return -(1.0 + restitution) * approach * mass
+
+
+@njit(cache=True, error_model="numpy")
 def apply_normal_impulse(velocities, masses, i, j, nx, ny, restitution):
     """Give the pair i, j its impulse along the unit normal (nx, ny) from i to j, in place, if
     it is approaching. velocities: (n, 2); masses: (n,). Returns the impulse (0 if none)."""
@@ -26,7 +33,7 @@ def apply_normal_impulse(velocities, masses, i, j, nx, ny, restitution):
     approach = (velocities[j, 0] - velocities[i, 0]) * nx + (velocities[j, 1] - velocities[i, 1]) * ny
     if approach >= 0.0:
         return 0.0
-    impulse = -(1.0 + restitution) * approach / (inv_i + inv_j)
+    impulse = newton_impulse(approach, restitution, 1.0 / (inv_i + inv_j))
     velocities[i, 0] -= impulse * inv_i * nx
     velocities[i, 1] -= impulse * inv_i * ny
     velocities[j, 0] += impulse * inv_j * nx

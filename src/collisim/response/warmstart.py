@@ -1,0 +1,59 @@
+"""Warm starting: each resting contact starts its solve from the impulse it had the step before.
+
+A body resting in a pile is pressed by about the same impulse every step (its weight and the
+weight above it, times dt). Sequential impulses pass that weight down one contact per sweep, so
+a solve started from zero would need as many sweeps as the pile is high; started from last
+step's impulses it is already solved, and the sweeps only correct what changed (Box2D,
+Chipmunk).
+
+The memory is keyed by contact, not by row number — the pair (i, j), or body i and a wall — so
+a contact finds its impulse whatever other contacts came or went. It is carried from step to
+step and from block to block of frames (engine/discrete.py), so a run streamed in blocks of any
+size gives the same bytes. Impacts are not remembered: an impact is new, and starting the next
+step from its impulse would push apart bodies that are already separating.
+"""
+from collections import namedtuple
+
+import numpy as np
+from numba import njit
+
+Memory = namedtuple("Memory", ["keys", "impulses"])
+Memory.__doc__ = """Last step's impulses of its resting contacts: keys (k,) int64 ascending (row_key)
+and their accumulated normal impulses (k,)."""
+
+
+@njit(cache=True)
+def no_memory():
+    return Memory(np.empty(0, np.int64), np.empty(0))
+
+
+@njit(cache=True)
+def row_key(rows, r, n):
+    """A number naming row r's contact among n bodies, the same from step to step."""
+    other = rows.j[r] if rows.j[r] >= 0 else n + rows.wall[r]
+    return rows.i[r] * (n + 4) + other
+
+
+@njit(cache=True)
+def remember(rows, count, n):
+    """The impulses of this step's pressed rows that were not impacts."""
+    keys, impulses = np.empty(count, np.int64), np.empty(count)
+    k = 0
+    for r in range(count):
+        if rows.hit[r] == 0.0 and rows.impulse[r] > 0.0:
+            keys[k], impulses[k] = row_key(rows, r, n), rows.impulse[r]
+            k += 1
+    order = np.argsort(keys[:k])   # rows are in canonical order, but pairs and walls interleave keys
+    return Memory(keys[:k][order], impulses[:k][order])
+
+
+@njit(cache=True)
+def recall(rows, count, memory, n):
+    """Each row's starting impulse: what its contact had last step, 0 if it had none."""
+    for r in range(count):
+        rows.impulse[r] = 0.0
+        if memory.keys.shape[0] > 0:
+            key = row_key(rows, r, n)
+            at = np.searchsorted(memory.keys, key)
+            if at < memory.keys.shape[0] and memory.keys[at] == key:
+                rows.impulse[r] = memory.impulses[at]
