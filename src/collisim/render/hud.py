@@ -32,4 +32,6 @@ def hud_lines(trajectory, frames: int, state, compact: bool = False) -> list:
 def draw_hud(canvas, rect, lines: list, scale: float) -> None:
     """One line in the strip below the panel's box."""
     left, top, _, height = rect
-    draw_text(canvas, "   |   ".join(lines), (left + 10, top + height - 9), scale=scale, color_rgb=palette.DIM_TEXT)
+    grow = max(1.0, scale / 0.55)   # offsets grow with the text (tall panels)
+    draw_text(canvas, "   |   ".join(lines), (left + int(10 * grow), top + height - int(9 * grow)), scale=scale,
+              color_rgb=palette.DIM_TEXT, thickness=max(1, int(round(grow))))
