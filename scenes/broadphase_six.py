@@ -8,7 +8,7 @@ from collisim.broadphase.step import GridState, box_grid
 from collisim.model.kinds import PAIR
 from collisim.render import structures as draw
 from collisim.render.explain import Caption, Explainer, Figure, image_figure
-from collisim.render.pace import Freeze, Pace, Slow
+from collisim.render.pace import Freeze, Pace, Slow, Steps
 
 BOX = (0.0, 0.0, 10.0, 6.0)
 # the video's six: pink, orange, blue, red, yellow, green
@@ -38,33 +38,12 @@ def boxes(state):
     return state.positions - RADII[:, None], state.positions + RADII[:, None]
 
 
-def plural(count, word):
-    return f"{count} {word}{'' if count == 1 else 's'}"
+def plural(count, word, many=None):
+    return f"{count} {word if count == 1 else many or word + 's'}"
 
 
 def names(bodies):
     return ", ".join(NAMES[b] for b in bodies)
-
-
-class Steps:
-    """A build shown on the frozen frame: `count` steps of `seconds` each from video second
-    `start`; `at(state)` is the step showing (-1 before the first), `live(state)` whether the
-    freeze is over and the simulation plays on."""
-
-    def __init__(self, start, count, seconds, hold=HOLD):
-        self.start, self.count, self.seconds = start, count, seconds
-        self.end = start + count * seconds
-        self.freeze_end = self.end + hold
-
-    def at(self, state):
-        return int(min(np.floor((state.clock - self.start) / self.seconds), self.count - 1)) \
-            if state.clock >= self.start else -1
-
-    def built(self, state):
-        return state.clock >= self.end
-
-    def live(self, state):
-        return state.clock >= self.freeze_end
 
 
 def chapter(method, title, items, steps, lines=(2, 0), side=0.0, pace=None, seconds=AFTER):
@@ -87,7 +66,7 @@ def candidates_caption(title):
 
 # --- brute force -----------------------------------------------------------------------------
 
-BRUTE = Steps(1.0, len(ALL_PAIRS), 0.3)
+BRUTE = Steps(1.0, len(ALL_PAIRS), 0.3, HOLD)
 
 
 def brute_caption(state):
@@ -122,7 +101,7 @@ def brute_chapter():
 
 # --- sweep and prune -------------------------------------------------------------------------
 
-SWEEP = Steps(1.5, len(RADII), 1.8)
+SWEEP = Steps(1.5, len(RADII), 1.8, HOLD)
 
 
 def sweep_step(info, k):
@@ -152,7 +131,7 @@ def sweep_caption(state):
         apart = [j for j in met if j not in reported]
         what = f"meets {names(met)} on {'xy'[info['axis']]}"
         what += f"; boxes overlap: reported with {names(reported)}" if reported else ""
-        what += f"; the boxes of {names(apart)} are apart: not reported" if apart else ""
+        what += f"; its box misses {names(apart)}'s: not reported" if apart else ""
     return f"{head} {what} ({plural(len(pairs), 'pair')} so far)"
 
 
@@ -167,7 +146,7 @@ def sweep_lanes(canvas, rect, view, state, unit):
     if SWEEP.built(state) or k < 0:
         shown = len(RADII) if SWEEP.built(state) else 0
         draw.sweep_lanes(canvas, rect, view, info["intervals"], info["order"], shown, range(len(RADII)), None,
-                         COLORS, unit)
+                         COLORS, unit, outline=False)
         return
     draw.sweep_lanes(canvas, rect, view, info["intervals"], info["order"], k + 1, info["active_steps"][k],
                      int(info["order"][k]), COLORS, unit)
@@ -198,7 +177,7 @@ def sweep_chapter():
 
 # --- uniform grid ----------------------------------------------------------------------------
 
-GRID = Steps(1.5, len(RADII), 1.2, hold=4.0)
+GRID = Steps(1.5, len(RADII), 1.2, 4.0)
 ENGINE_GRID = box_grid(BOX, RADII)         # the grid the engine keeps for this world
 CHART_SIZES = (0.6, 0.8, 1.0, 1.3, 1.6, 2.0, 2.5, 3.2, 4.0, 5.0, 6.5, 10.0)
 
@@ -281,7 +260,7 @@ def kd_split_count():
     return len(describe("kdtree", lo, hi, **TREE_OPTIONS)["splits"])
 
 
-KD = Steps(1.5, kd_split_count(), 1.6, hold=4.0)
+KD = Steps(1.5, kd_split_count(), 1.6, 4.0)
 
 
 def kd_caption(state):
@@ -333,7 +312,7 @@ def bvh_at_key():
 
 
 LEVELS, BVH_PAIRS = bvh_at_key()
-BVH = Steps(1.5, LEVELS + BVH_PAIRS, 1.8)
+BVH = Steps(1.5, LEVELS + BVH_PAIRS, 1.8, HOLD)
 
 
 def leaf_of(info):
@@ -351,7 +330,7 @@ def bvh_caption(state):
     info = describe("bvh", *boxes(state), **TREE_OPTIONS)
     if k < LEVELS:
         count = sum(node[2] == k for node in info["nodes"])
-        return f"level {k}: {plural(count, 'box')}, each split in half at the median particle along its wider axis"
+        return f"level {k}: {plural(count, 'box', 'boxes')}, each split in half at the median particle along its wider axis"
     j = k - LEVELS
     a, b = info["pairs"][j]
     return (f"traversal: {NAMES[a]}'s and {NAMES[b]}'s leaf boxes overlap: candidate pair {j + 1} "
@@ -375,8 +354,8 @@ def bvh_figure(canvas, rect, view, state, unit):
 
 
 def bvh_chapter():
-    items = [Caption("bounding volume hierarchy: split the particles, not space; each half gets a tight box, "
-                     "and boxes may overlap", 0.0, None, "top"),
+    items = [Caption("BVH: split the particles, not space; a tight box around each half (boxes may overlap)",
+                     0.0, None, "top"),
              Caption(bvh_caption, 0.0, None, "top", 1),
              Figure(bvh_figure, 0.0, None, "box")]
     return chapter("bvh", "bounding volume hierarchy", items, BVH)

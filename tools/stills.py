@@ -2,6 +2,7 @@
 
     .venv/bin/python tools/stills.py                 # all tutorial scenes into docs/stills/
     .venv/bin/python tools/stills.py broadphase_six  # one scene
+    .venv/bin/python tools/stills.py --table         # the README's "Stills" table
 
 Each still is a frame of the chapter at a moment where its explanation is complete (MOMENTS:
 the share of the chapter's frames, 0.9 unless given). The timeline is walked frame by frame as
@@ -27,6 +28,18 @@ WALK_FPS = 15
 # the share of each chapter's frames at which its still is taken (default 0.9)
 MOMENTS = {"broadphase_six": (0.62, 0.64, 0.65, 0.6, 0.66, 0.35), "two_bodies": (0.5,), "tunneling": (0.5, 0.9),
            "single_bounce": (0.6,), "teacher_drop": (0.6,)}
+CHAPTERS = {
+    "frame_rate": ("15 and 60 fps side by side", "ghosts and linear interpolation"),
+    "single_bounce": ("update, detection, response",),
+    "two_bodies": ("the impact, frozen: line of centres, masses, velocities",),
+    "tunneling": ("discrete at 1 and 4 substeps against ccd", "solving for t_c over a frozen frame"),
+    "broadphase_six": ("brute force: all 15 pairs", "sweep and prune: the sorted walk",
+                       "uniform grid: cells, counts, memory", "kd-tree: median splits", "BVH: build and traversal",
+                       "narrow phase: the exact test"),
+    "teacher_drop": ("a teacher's scene from the README",),
+    "raycast": ("rays from a sensor, a missile's step",),
+    "collision_map": ("a painted level, discrete and ccd",),
+}
 OUT = Path(__file__).resolve().parents[1] / "docs" / "stills"
 
 
@@ -58,6 +71,17 @@ def save(image: np.ndarray, path: Path) -> None:
     picture.save(path, optimize=True)
 
 
+def table() -> str:
+    """The README's table: scene, chapter, the -ql and -qh stills."""
+    rows = ["| scene | chapter | -ql (854x480) | -qh (1920x1080) |", "| --- | --- | --- | --- |"]
+    for name in SCENES:
+        for k, title in enumerate(CHAPTERS[name]):
+            low, high = (f"docs/stills/{name}_{k + 1}_{q}.png" for q in QUALITIES)
+            rows.append(f"| `{name}` | {k + 1}. {title} | <img src=\"{low}\" width=\"300\"> "
+                        f"| <a href=\"{high}\"><img src=\"{high}\" width=\"300\"></a> |")
+    return "\n".join(rows)
+
+
 def main(names) -> None:
     OUT.mkdir(parents=True, exist_ok=True)
     for name in names:
@@ -69,4 +93,7 @@ def main(names) -> None:
 
 
 if __name__ == "__main__":
-    main(sys.argv[1:] or SCENES)
+    if sys.argv[1:] == ["--table"]:
+        print(table())
+    else:
+        main(sys.argv[1:] or SCENES)

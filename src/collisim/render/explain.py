@@ -266,7 +266,9 @@ def text_image(text: str, pixels: float) -> np.ndarray:
     from matplotlib.font_manager import FontProperties
     buffer = io.BytesIO()
     size = max(4.0, round(pixels * 2.0) / 2.0)   # half-pixel steps keep the cache small
-    mathtext.math_to_image(text, buffer, prop=FontProperties(size=size), dpi=72, format="png")
+    # mathtext crops the image at the last glyph's advance, cutting off a final letter's right edge
+    # at large sizes ("reflectec" at -qh); a trailing thin math space keeps it whole
+    mathtext.math_to_image(text + r"$\,$", buffer, prop=FontProperties(size=size), dpi=72, format="png")
     # black text on an opaque white ground: darkness is coverage
     image = cv2.imdecode(np.frombuffer(buffer.getvalue(), np.uint8), cv2.IMREAD_GRAYSCALE)
     return (255 - image).astype(np.float32) / 255.0

@@ -53,10 +53,11 @@ def label(canvas, text: str, centre_px, unit: float, color=None, pixels: float =
 
 # --- sweep and prune -------------------------------------------------------------------------
 
-def sweep_lanes(canvas, rect, view, intervals, order, shown: int, active, current, colors, unit) -> None:
+def sweep_lanes(canvas, rect, view, intervals, order, shown: int, active, current, colors, unit,
+                outline: bool = True) -> None:
     """Each box's interval on the sweep axis (x, sharing the view's x scale) in its own lane, in
     sorted order top to bottom: the first `shown` of the sorted list, those in `active` in their
-    colour and the rest dimmed, the span of the active list outlined, and the sweep line at the
+    colour and the rest dimmed, the span of the active list outlined (if `outline`), and the sweep line at the
     start of box `current` (None: no sweep line)."""
     x, y, w, h = rect
     lane = h / max(len(order), 1)
@@ -68,7 +69,7 @@ def sweep_lanes(canvas, rect, view, intervals, order, shown: int, active, curren
         middle = (rank + 0.5) * lane
         color = colors[body] if body in active else dimmed(colors[body], 0.7)
         raster.draw_lines_px(layer, [(ends[body, 0] - x, middle)], [(ends[body, 1] - x, middle)], color, line)
-    if len(active):
+    if outline and len(active):
         span, edge = ends[list(active)], width(unit, 0.75)
         raster.draw_rect_px(layer, (span[:, 0].min() - x - line, edge), (span[:, 1].max() - x + line, h - 1 - edge),
                             palette.HIGHLIGHT, edge)
