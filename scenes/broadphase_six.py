@@ -283,7 +283,7 @@ def kd_figure(canvas, rect, view, state, unit):
     lo, hi = boxes(state)
     region_lo, region_hi = lo.min(axis=0), hi.max(axis=0)
     draw.raster.draw_rects(canvas, view, [region_lo], [region_hi], palette.DIM_TEXT, draw.width(unit, 0.5))
-    draw.kd_splits(canvas, view, splits, shown, unit)
+    draw.kd_splits(canvas, view, splits, shown, unit, newest=not KD.built(state))
     if KD.built(state):
         leaves = describe("kdtree", lo, hi, **TREE_OPTIONS)["leaves"]
         crowded = sorted({int(b) for leaf in leaves if len(leaf) > 1 for b in leaf})

@@ -123,14 +123,15 @@ def grid_chart(sizes, memory, tests, engine_size, pixels: tuple) -> np.ndarray:
     """An RGB image (h, w, 3) of the grid's memory (bytes) and its pair tests against cell size,
     the engine's cell size marked: the trade-off, fewer cells cost more tests."""
     import matplotlib
-    matplotlib.use("Agg")
-    from matplotlib import pyplot as plt
+    import matplotlib.ticker
+    from matplotlib.figure import Figure   # no pyplot: a user's backend and figures stay untouched
     w, h = pixels
     text, background = np.array(palette.TEXT) / 255, np.array(palette.BACKGROUND) / 255
-    with plt.rc_context({"font.size": 15, "text.color": text, "axes.labelcolor": text, "xtick.color": text,
+    with matplotlib.rc_context({"font.size": 15, "text.color": text, "axes.labelcolor": text, "xtick.color": text,
                          "ytick.color": text, "axes.edgecolor": text, "axes.facecolor": background,
                          "figure.facecolor": background}):
-        figure, (top, bottom) = plt.subplots(2, 1, figsize=(w / 100, h / 100), dpi=100, sharex=True)
+        figure = Figure(figsize=(w / 100, h / 100), dpi=100)
+        top, bottom = figure.subplots(2, 1, sharex=True)
         top.plot(sizes, memory, "o-", color=np.array(palette.HIGHLIGHT) / 255)
         top.set_ylabel("memory (bytes)")
         bottom.plot(sizes, tests, "o-", color=np.array((120, 220, 160)) / 255)
@@ -138,11 +139,13 @@ def grid_chart(sizes, memory, tests, engine_size, pixels: tuple) -> np.ndarray:
         bottom.set_xlabel("cell size (world units)")
         for axes in (top, bottom):
             axes.axvline(engine_size, color=text, linestyle=":", linewidth=1.5)
+        bottom.yaxis.set_major_locator(matplotlib.ticker.MaxNLocator(integer=True))
+        top.annotate("the engine's", (engine_size, 0.95), xycoords=("data", "axes fraction"), ha="left",
+                     va="top", fontsize=13, xytext=(4, 0), textcoords="offset points")
         top.set_title("the grid's trade-off", fontsize=16)
         figure.tight_layout()
         buffer = io.BytesIO()
         figure.savefig(buffer, format="png", facecolor=background)
-        plt.close(figure)
     import cv2
     image = cv2.imdecode(np.frombuffer(buffer.getvalue(), np.uint8), cv2.IMREAD_COLOR)
     return image[:, :, ::-1].copy()
@@ -150,14 +153,15 @@ def grid_chart(sizes, memory, tests, engine_size, pixels: tuple) -> np.ndarray:
 
 # --- trees -----------------------------------------------------------------------------------
 
-def kd_splits(canvas, view, splits, shown: int, unit) -> None:
-    """The first `shown` splits, each a line across its node's region; the newest highlighted."""
+def kd_splits(canvas, view, splits, shown: int, unit, newest: bool = True) -> None:
+    """The first `shown` splits, each a line across its node's region; the newest highlighted
+    (if `newest`)."""
     for k, (axis, value, node_lo, node_hi, depth) in enumerate(splits[:shown]):
         start, end = np.array(node_lo, float), np.array(node_hi, float)
         start[axis] = end[axis] = value
-        newest = k == shown - 1
-        raster.draw_lines(canvas, view, [start], [end], palette.HIGHLIGHT if newest else palette.BOX,
-                          width(unit, 1.25 if newest else max(0.5, 1.0 - 0.2 * depth)))
+        lit = newest and k == shown - 1
+        raster.draw_lines(canvas, view, [start], [end], palette.HIGHLIGHT if lit else palette.BOX,
+                          width(unit, 1.25 if lit else max(0.5, 1.0 - 0.2 * depth)))
 
 
 def bvh_boxes(canvas, view, nodes, depth: int, lit=(), unit: float = 1.0, newest: bool = True) -> None:
