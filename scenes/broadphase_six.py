@@ -5,6 +5,7 @@ import collisim
 from collisim import palette
 from collisim.broadphase import describe
 from collisim.broadphase.step import GridState, box_grid
+from collisim.engine.discrete import bounding_boxes
 from collisim.model.kinds import PAIR
 from collisim.render import structures as draw
 from collisim.render.explain import Caption, Explainer, Figure, image_figure
@@ -32,10 +33,13 @@ def six_particles():
 
 RADII = six_particles()[2]
 ALL_PAIRS = np.column_stack(np.triu_indices(len(RADII), 1))
+SIX = collisim.World(*six_particles(), box=BOX)
 
 
 def boxes(state):
-    return state.positions - RADII[:, None], state.positions + RADII[:, None]
+    """The boxes the engine's broad phase tests in this state: each disc's bounds, grown by the
+    little it could move in a step (its speculative margin)."""
+    return bounding_boxes(SIX, state.positions, state.velocities, fps=60)
 
 
 def plural(count, word, many=None):
