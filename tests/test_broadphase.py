@@ -107,6 +107,24 @@ def radii_spanning_100x():
     return circles(rng.uniform(0, 200, (150, 2)), 10 ** rng.uniform(-1, 1, 150))
 
 
+def all_overlapping_on_the_sweep_axis():
+    """Boxes 30 wide whose centres spread 10 along x and 4 along y: x is the sweep axis
+    (the larger spread) and every box overlaps every other on it, so a sweep's forward walk
+    meets all n^2 / 2 pairs and only the other axis prunes."""
+    rng = np.random.default_rng(6)
+    centres = np.column_stack((rng.uniform(0, 10, 300), rng.uniform(0, 4, 300)))
+    return centres - [15.0, 0.1], centres + [15.0, 0.1]
+
+
+def tall_thin_column_with_duplicates():
+    """A column one box wide and 400 tall, each box present twice or three times over
+    (equal keys on every axis, in scattered index order)."""
+    rng = np.random.default_rng(7)
+    centres = np.column_stack((rng.uniform(0, 0.5, 150), rng.uniform(0, 400, 150)))
+    centres = centres[rng.permutation(np.r_[np.arange(150), np.arange(150), np.arange(50)])]
+    return circles(centres, 1.0)
+
+
 DEGENERATE = {
     "all on one x": circles(np.column_stack((np.zeros(40), np.linspace(0, 50, 40))), 1.0),
     "identical boxes": (np.zeros((25, 2)), np.ones((25, 2))),
@@ -114,6 +132,8 @@ DEGENERATE = {
     "touching lattice": lattice_of_touching_circles(),
     "two dense clusters": two_dense_clusters(),
     "radii spanning 100x": radii_spanning_100x(),
+    "all overlapping on the sweep axis": all_overlapping_on_the_sweep_axis(),
+    "tall thin column with duplicates": tall_thin_column_with_duplicates(),
     "one giant among small": circles(np.vstack(([50.0, 50.0], gas(80, 100, 5)[0] + 1)),
                                      np.r_[40.0, np.ones(80)]),
 }
