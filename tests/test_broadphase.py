@@ -330,3 +330,21 @@ def test_grid_refuses_an_absurd_number_of_cells():
     with pytest.raises(ValueError, match="cell_size"):
         find_pairs("grid", np.array([[0.0, 0.0], [1e6, 1e6]]), np.array([[1.0, 1.0], [1e6, 1e6]]),
                    cell_size=1e-3)
+
+
+@pytest.mark.parametrize("values", [
+    np.random.default_rng(12).normal(size=500),
+    np.round(np.random.default_rng(13).uniform(0, 5, 500)),  # long runs of ties
+    np.arange(300.0), np.arange(300.0)[::-1].copy(), np.full(200, 2.0),
+])
+def test_select_smallest_is_a_partial_sort(values):
+    """The trees' median finder (nth_element) against numpy's sort, at every rank."""
+    from collisim.broadphase._common import select_smallest
+
+    expected = np.sort(values)
+    for k in range(0, len(values), 37):
+        work = values.copy()
+        select_smallest(work, len(work), k)
+        assert work[k] == expected[k]
+        assert np.all(work[:k] <= work[k]) and np.all(work[k + 1:] >= work[k])
+        np.testing.assert_array_equal(np.sort(work), expected)
