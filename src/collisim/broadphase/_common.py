@@ -164,7 +164,12 @@ def select_smallest(values, end, k):
 
 @njit(cache=True)
 def new_pair_buffer(n):
-    """An empty (capacity, 2) intp buffer for a kernel to append pairs to."""
+    """An empty (capacity, 2) intp buffer for a kernel to append pairs to.
+
+    Kernels start their count at np.intp(0), not 0: numba types a bare 0 as Literal[int](0)
+    on the first pass through a loop and then compiles push_pair (and grown below it) a
+    second time for that type, about two seconds more on a first run.
+    """
     return np.empty((max(16, 2 * n), 2), np.intp)
 
 
@@ -193,39 +198,12 @@ def insertion_sort(values, first, end):
         values[m] = item
 
 
-@njit(cache=True)
-def sorted_unique_pairs(pairs, n):
-    """Sort raw pairs with i < j lexicographically and drop repeats.
-
-    pairs: (k, 2) intp with entries in 0 .. n - 1. A counting sort on i groups
-    the pairs by their first index in O(n + k); each group's j's (a handful
-    per box) are then sorted on their own, and repeats skipped.
-    """
-    k = pairs.shape[0]
-    group_start = np.zeros(n + 1, np.intp)
-    for p in range(k):
-        group_start[pairs[p, 0] + 1] += 1
-    group_start = np.cumsum(group_start)
-    cursor = group_start[:-1].copy()
-    partners = np.empty(k, np.intp)
-    for p in range(k):
-        i = pairs[p, 0]
-        partners[cursor[i]] = pairs[p, 1]
-        cursor[i] += 1
-    result = np.empty((k, 2), np.intp)
-    count = 0
-    for i in range(n):
-        first, end = group_start[i], group_start[i + 1]
-        if end - first > 32:
-            partners[first:end].sort()  # a big box's long list
-        else:
-            insertion_sort(partners, first, end)  # a handful: no call overhead
-        for g in range(first, end):
-            if g == first or partners[g] != partners[g - 1]:
-                result[count, 0] = i
-                result[count, 1] = partners[g]
-                count += 1
-    return result[:count]
+def sorted_unique_pairs(pairs: np.ndarray, n: int) -> np.ndarray:
+    """Raw pairs (k, 2) with i < j, entries in 0 .. n - 1, sorted lexicographically and without
+    repeats. With numpy rather than a compiled kernel: the scene check on every run (the grid's
+    pairs) then compiles nothing beyond what the step compiles anyway (about 3 s on a first run)."""
+    keys = np.unique(pairs[:, 0].astype(np.int64) * n + pairs[:, 1])
+    return np.column_stack(np.divmod(keys, n)).astype(np.intp)
 
 
 class BroadPhase:

@@ -162,7 +162,7 @@ def bvh_pairs(lo, hi, order, node_lo, node_hi, node_first, node_count, node_left
 
     Returns (k, 2) intp pairs with i < j.
     """
-    pairs, count = new_pair_buffer(lo.shape[0]), 0
+    pairs, count = new_pair_buffer(lo.shape[0]), np.intp(0)
     stack = [(0, 0)]
     while len(stack) > 0:
         a, b = stack.pop()
@@ -194,7 +194,7 @@ def bvh_query(lo, hi, order, node_lo, node_hi, node_first, node_count, node_left
     Returns (found (k,) intp, nodes visited, boxes tested); every box is in
     one leaf only, so there are no repeats.
     """
-    found, count, visited, tested = np.empty(16, np.intp), 0, 0, 0
+    found, count, visited, tested = np.empty(16, np.intp), np.intp(0), 0, 0
     stack = [0]
     while len(stack) > 0:
         node = stack.pop()
@@ -227,7 +227,7 @@ def bvh_raycast(lo, hi, order, node_lo, node_hi, node_first, node_count, node_le
     Returns found (k,) intp, t_enter (k,) float64, nodes visited (node boxes
     tested against the ray) and boxes tested.
     """
-    (found, t_enter), count = new_hit_buffers(), 0
+    (found, t_enter), count = new_hit_buffers(), np.intp(0)
     visited, tested = 1, 0
     stack = [0]
     if node_entry(node_lo, node_hi, 0, ox, oy, ux, uy, max_distance) == np.inf:

@@ -123,7 +123,7 @@ def kdtree_pairs(lo, hi, leaf_size, max_depth):
     """
     node_axis, _, _, node_first, node_count, leaf_boxes, node_region, depth = grow_kdtree(
         lo, hi, leaf_size, max_depth)
-    pairs, count = new_pair_buffer(lo.shape[0]), 0
+    pairs, count = new_pair_buffer(lo.shape[0]), np.intp(0)
     for node in range(node_axis.shape[0]):
         if node_axis[node] < 0:
             first, end = node_first[node], node_first[node] + node_count[node]
@@ -231,7 +231,7 @@ def kdtree_query(lo, hi, node_axis, node_value, node_left, node_first, node_coun
     files boxes, so every box overlapping the query sits in a leaf it reaches.
     Returns (found (k,) intp with repeats, nodes visited, boxes tested).
     """
-    found, count = np.empty(16, np.intp), 0
+    found, count = np.empty(16, np.intp), np.intp(0)
     visited = tested = 0
     stack = [0]
     while len(stack) > 0:
@@ -262,7 +262,7 @@ def kdtree_raycast(lo, hi, node_axis, node_value, node_left, node_first, node_co
     the nearer is searched first. Returns found (k,) intp with repeats,
     t_enter (k,) float64, nodes visited (regions tested) and boxes tested.
     """
-    (found, t_enter), count = new_hit_buffers(), 0
+    (found, t_enter), count = new_hit_buffers(), np.intp(0)
     visited, tested = 1, 0
     stack = [(0, (x0, y0, x1, y1))]
     if ray_box_entry(ox, oy, ux, uy, max_distance, x0, y0, x1, y1) == np.inf:

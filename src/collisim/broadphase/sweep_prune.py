@@ -67,7 +67,7 @@ def sweep(lo, hi, order, axis):
         i = order[p]
         start[p], end[p] = lo[i, axis], hi[i, axis]
         low[p], high[p] = lo[i, other], hi[i, other]
-    pairs, count = new_pair_buffer(n), 0
+    pairs, count = new_pair_buffer(n), np.intp(0)
     hits = np.empty(n, np.intp)
     for p in range(n):
         # The run of later boxes starting at or before this one's end: every one overlaps
@@ -152,7 +152,7 @@ def sweep_query(lo, hi, order, axis, qx0, qy0, qx1, qy1):
     q_min, q_max = (qx0, qx1) if axis == 0 else (qy0, qy1)
     first = np.searchsorted(reach, q_min, side="left")  # earlier boxes all end before q_min
     end = np.searchsorted(starts, q_max, side="right")  # later boxes all start after q_max
-    found, count = np.empty(16, np.intp), 0
+    found, count = np.empty(16, np.intp), np.intp(0)
     for p in range(first, end):
         i = order[p]
         if box_meets_query(lo, hi, i, qx0, qy0, qx1, qy1):
@@ -198,7 +198,7 @@ def sweep_raycast(lo, hi, order, axis, ox, oy, ux, uy, max_distance):
     else:  # across the sweep axis: boxes must contain o on it
         first = np.searchsorted(reach, o, side="left")
         end = np.searchsorted(starts, o, side="right")
-    (found, t_enter), count = new_hit_buffers(), 0
+    (found, t_enter), count = new_hit_buffers(), np.intp(0)
     for p in range(first, end):
         i = order[p]
         t = ray_box_entry(ox, oy, ux, uy, max_distance, lo[i, 0], lo[i, 1], hi[i, 0], hi[i, 1])
