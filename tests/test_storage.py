@@ -63,3 +63,13 @@ def test_storage_survives_a_save(scene, tmp_path):
 def test_unknown_storage(scene):
     with pytest.raises(ValueError, match="^unknown storage 'float16'; choose one of: float64, float32, positions$"):
         collisim.simulate(scene, storage="float16")
+
+
+def test_the_memory_benchmark_counts_a_repeated_row_once(exact):
+    from collisim.analysis.bench.memory import held_bytes
+
+    held = held_bytes(exact)
+    samples, n = exact.positions.shape[:2]
+    per_frame = exact.times.nbytes + 3 * exact.wall_collisions.nbytes + exact.candidates.nbytes + samples  # + bool
+    assert held["frames"] == 2 * samples * n * 2 * 8 + 2 * n * 8 + per_frame  # angles: one row each
+    assert held["events"] == len(exact.events) * (8 + 1 + 8 + 8 + 8 + 16)
