@@ -202,8 +202,13 @@ def sorted_unique_pairs(pairs: np.ndarray, n: int) -> np.ndarray:
     """Raw pairs (k, 2) with i < j, entries in 0 .. n - 1, sorted lexicographically and without
     repeats. With numpy rather than a compiled kernel: the scene check on every run (the grid's
     pairs) then compiles nothing beyond what the step compiles anyway (about 3 s on a first run)."""
-    keys = np.unique(pairs[:, 0].astype(np.int64) * n + pairs[:, 1])
-    return np.column_stack(np.divmod(keys, n)).astype(np.intp)
+    keys = pairs[:, 0].astype(np.intp) * n + pairs[:, 1]   # (i, j) order is key order: j < n
+    keys.sort()
+    keys = keys[np.concatenate(([True], keys[1:] != keys[:-1]))[:len(keys)]]
+    result = np.empty((len(keys), 2), np.intp)
+    result[:, 0] = keys // n
+    result[:, 1] = keys - result[:, 0] * n
+    return result
 
 
 class BroadPhase:
