@@ -29,8 +29,8 @@ both boxes, so both boxes are in that leaf, and the leaf regions tile the
 plane without overlap, so exactly one leaf reports the pair.
 
 :func:`grow_kdtree` builds the tree into flat arrays (allocated once per
-build, nothing per node); pairs, box queries and ray casts all read them. A query box goes down the tree the way
-a box is filed into it: left if its min is < the split value, right if its
+build, nothing per node); pairs, box queries and ray casts all read them.
+A query box goes down the tree the way a box is filed into it: left if its min is < the split value, right if its
 max is >= it. A ray goes into the children whose region it reaches within
 max_distance, nearer child first.
 """

@@ -60,10 +60,13 @@ def simulate(scene: Scene, progress=None, max_events: int = MAX_EVENTS, storage:
     return trajectory
 
 
-def block_frames(world) -> int:
-    """Frames per stepper call: BLOCK_FRAMES, fewer when that many frames of positions and
-    velocities (32 bytes a body) would exceed BLOCK_BYTES (a million bodies: 1 frame)."""
-    return int(max(1, min(BLOCK_FRAMES, BLOCK_BYTES // (32 * max(world.n, 1)))))
+def block_frames(scene: Scene) -> int:
+    """Frames per stepper call: BLOCK_FRAMES, fewer for the discrete method when that many
+    frames of positions and velocities (32 bytes a body) would exceed BLOCK_BYTES (a million
+    bodies: 1 frame). ccd keeps BLOCK_FRAMES: it rebuilds its event queue at every block."""
+    if scene.method == "ccd":
+        return BLOCK_FRAMES
+    return int(max(1, min(BLOCK_FRAMES, BLOCK_BYTES // (32 * max(scene.world.n, 1)))))
 
 
 def stream(scene: Scene, block: int | None = None, progress=None) -> Iterator[Trajectory]:
@@ -74,7 +77,7 @@ def stream(scene: Scene, block: int | None = None, progress=None) -> Iterator[Tr
         raise ValueError(f"scene '{scene.name}' is made of panels or chapters; stream each one's scene")
     stepper = METHODS[scene.method](scene)
     world, total = scene.world, scene.frames
-    block = block_frames(world) if block is None else block
+    block = block_frames(scene) if block is None else block
     first = 0
     while first <= total:
         count = min(block, total + 1 - first)
