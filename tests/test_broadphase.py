@@ -107,6 +107,24 @@ def radii_spanning_100x():
     return circles(rng.uniform(0, 200, (150, 2)), 10 ** rng.uniform(-1, 1, 150))
 
 
+def all_overlapping_on_the_sweep_axis():
+    """Boxes 30 wide whose centres spread 10 along x and 4 along y: x is the sweep axis
+    (the larger spread) and every box overlaps every other on it, so a sweep's forward walk
+    meets all n^2 / 2 pairs and only the other axis prunes."""
+    rng = np.random.default_rng(6)
+    centres = np.column_stack((rng.uniform(0, 10, 300), rng.uniform(0, 4, 300)))
+    return centres - [15.0, 0.1], centres + [15.0, 0.1]
+
+
+def tall_thin_column_with_duplicates():
+    """A column one box wide and 400 tall, each box present twice or three times over
+    (equal keys on every axis, in scattered index order)."""
+    rng = np.random.default_rng(7)
+    centres = np.column_stack((rng.uniform(0, 0.5, 150), rng.uniform(0, 400, 150)))
+    centres = centres[rng.permutation(np.r_[np.arange(150), np.arange(150), np.arange(50)])]
+    return circles(centres, 1.0)
+
+
 DEGENERATE = {
     "all on one x": circles(np.column_stack((np.zeros(40), np.linspace(0, 50, 40))), 1.0),
     "identical boxes": (np.zeros((25, 2)), np.ones((25, 2))),
@@ -114,6 +132,8 @@ DEGENERATE = {
     "touching lattice": lattice_of_touching_circles(),
     "two dense clusters": two_dense_clusters(),
     "radii spanning 100x": radii_spanning_100x(),
+    "all overlapping on the sweep axis": all_overlapping_on_the_sweep_axis(),
+    "tall thin column with duplicates": tall_thin_column_with_duplicates(),
     "one giant among small": circles(np.vstack(([50.0, 50.0], gas(80, 100, 5)[0] + 1)),
                                      np.r_[40.0, np.ones(80)]),
 }
@@ -310,3 +330,21 @@ def test_grid_refuses_an_absurd_number_of_cells():
     with pytest.raises(ValueError, match="cell_size"):
         find_pairs("grid", np.array([[0.0, 0.0], [1e6, 1e6]]), np.array([[1.0, 1.0], [1e6, 1e6]]),
                    cell_size=1e-3)
+
+
+@pytest.mark.parametrize("values", [
+    np.random.default_rng(12).normal(size=500),
+    np.round(np.random.default_rng(13).uniform(0, 5, 500)),  # long runs of ties
+    np.arange(300.0), np.arange(300.0)[::-1].copy(), np.full(200, 2.0),
+])
+def test_select_smallest_is_a_partial_sort(values):
+    """The trees' median finder (nth_element) against numpy's sort, at every rank."""
+    from collisim.broadphase._common import select_smallest
+
+    expected = np.sort(values)
+    for k in range(0, len(values), 37):
+        work = values.copy()
+        select_smallest(work, len(work), k)
+        assert work[k] == expected[k]
+        assert np.all(work[:k] <= work[k]) and np.all(work[k + 1:] >= work[k])
+        np.testing.assert_array_equal(np.sort(work), expected)

@@ -80,26 +80,96 @@ def boxes_overlap(lo, hi, i, j):
 
 
 @njit(cache=True)
-def centre_spread(lo, hi, members, axis):
-    """Max minus min of the centres of boxes `members` on `axis`. lo, hi: (n, 2)."""
+def gathered_boxes(lo, hi):
+    """The boxes as rows x0, y0, x1, y1 (n, 4): the trees keep a run of these beside their
+    index runs and move them together, so a node's passes read memory in sequence rather
+    than jump through lo and hi by index (cache misses dominated the build at 10^5 boxes)."""
+    rows = np.empty((lo.shape[0], 4))
+    for i in range(lo.shape[0]):
+        rows[i, 0], rows[i, 1], rows[i, 2], rows[i, 3] = lo[i, 0], lo[i, 1], hi[i, 0], hi[i, 1]
+    return rows
+
+
+@njit(cache=True)
+def copy_row(source, k, target, to):
+    """target[to] = source[k] for (m, 4) box rows, as four scalar moves (numba's row
+    assignment goes through its general broadcasting path, several times slower)."""
+    for c in range(4):
+        target[to, c] = source[k, c]
+
+
+@njit(cache=True)
+def row_centre(rows, k, axis):
+    """The centre on `axis` of box row k of gathered_boxes rows."""
+    return 0.5 * rows[k, axis] + 0.5 * rows[k, axis + 2]
+
+
+@njit(cache=True)
+def centre_spread(rows, axis):
+    """Max minus min of the centres of box rows (m, 4) (gathered_boxes) on `axis`."""
     low, high = np.inf, -np.inf
-    for i in members:
-        centre = 0.5 * lo[i, axis] + 0.5 * hi[i, axis]
+    for k in range(rows.shape[0]):
+        centre = row_centre(rows, k, axis)
         low = min(low, centre)
         high = max(high, centre)
     return high - low
 
 
 @njit(cache=True)
-def widest_axis(lo, hi, members):
-    """The axis (0 or 1) along which the centres of boxes `members` spread widest
-    (ties go to axis 0). lo, hi: (n, 2); members: (m,) indices, m >= 1."""
-    return 1 if centre_spread(lo, hi, members, 1) > centre_spread(lo, hi, members, 0) else 0
+def widest_axis(rows):
+    """The axis (0 or 1) along which the centres of box rows (m, 4), m >= 1, (gathered_boxes)
+    spread widest (ties go to axis 0)."""
+    return 1 if centre_spread(rows, 1) > centre_spread(rows, 0) else 0
+
+
+@njit(cache=True)
+def select_smallest(values, end, k):
+    """Reorder values[:end] in place so values[k] is what a sort would put there, the k
+    values before it no larger and those after no smaller (C++'s nth_element), 0 <= k < end.
+
+    Quickselect with a median-of-three pivot and a three-way partition (runs of equal
+    values, common in a lattice, cost one pass); after 2 log2(end) rounds without
+    converging it sorts what is left, so no input costs more than O(end log end).
+    """
+    first, last = 0, end - 1
+    rounds = 2 * int(np.log2(end + 1)) + 2
+    while last - first > 16:
+        if rounds == 0:
+            values[first:last + 1].sort()
+            return
+        rounds -= 1
+        a, b, c = values[first], values[(first + last) // 2], values[last]
+        pivot = max(min(a, b), min(max(a, b), c))
+        # Three-way partition: [first, below) < pivot, [below, above] == pivot, (above, last] > pivot.
+        below, scan, above = first, first, last
+        while scan <= above:
+            value = values[scan]
+            if value < pivot:
+                values[scan], values[below] = values[below], value
+                below += 1
+                scan += 1
+            elif value > pivot:
+                values[scan], values[above] = values[above], value
+                above -= 1
+            else:
+                scan += 1
+        if k < below:
+            last = below - 1
+        elif k > above:
+            first = above + 1
+        else:
+            return
+    insertion_sort(values, first, last + 1)
 
 
 @njit(cache=True)
 def new_pair_buffer(n):
-    """An empty (capacity, 2) intp buffer for a kernel to append pairs to."""
+    """An empty (capacity, 2) intp buffer for a kernel to append pairs to.
+
+    Kernels start their count at np.intp(0), not 0: numba types a bare 0 as Literal[int](0)
+    on the first pass through a loop and then compiles push_pair (and grown below it) a
+    second time for that type, about two seconds more on a first run.
+    """
     return np.empty((max(16, 2 * n), 2), np.intp)
 
 
@@ -128,39 +198,17 @@ def insertion_sort(values, first, end):
         values[m] = item
 
 
-@njit(cache=True)
-def sorted_unique_pairs(pairs, n):
-    """Sort raw pairs with i < j lexicographically and drop repeats.
-
-    pairs: (k, 2) intp with entries in 0 .. n - 1. A counting sort on i groups
-    the pairs by their first index in O(n + k); each group's j's (a handful
-    per box) are then sorted on their own, and repeats skipped.
-    """
-    k = pairs.shape[0]
-    group_start = np.zeros(n + 1, np.intp)
-    for p in range(k):
-        group_start[pairs[p, 0] + 1] += 1
-    group_start = np.cumsum(group_start)
-    cursor = group_start[:-1].copy()
-    partners = np.empty(k, np.intp)
-    for p in range(k):
-        i = pairs[p, 0]
-        partners[cursor[i]] = pairs[p, 1]
-        cursor[i] += 1
-    result = np.empty((k, 2), np.intp)
-    count = 0
-    for i in range(n):
-        first, end = group_start[i], group_start[i + 1]
-        if end - first > 32:
-            partners[first:end].sort()  # a big box's long list
-        else:
-            insertion_sort(partners, first, end)  # a handful: no call overhead
-        for g in range(first, end):
-            if g == first or partners[g] != partners[g - 1]:
-                result[count, 0] = i
-                result[count, 1] = partners[g]
-                count += 1
-    return result[:count]
+def sorted_unique_pairs(pairs: np.ndarray, n: int) -> np.ndarray:
+    """Raw pairs (k, 2) with i < j, entries in 0 .. n - 1, sorted lexicographically and without
+    repeats. With numpy rather than a compiled kernel: the scene check on every run (the grid's
+    pairs) then compiles nothing beyond what the step compiles anyway (about 3 s on a first run)."""
+    keys = pairs[:, 0].astype(np.intp) * n + pairs[:, 1]   # (i, j) order is key order: j < n
+    keys.sort()
+    keys = keys[np.concatenate(([True], keys[1:] != keys[:-1]))[:len(keys)]]
+    result = np.empty((len(keys), 2), np.intp)
+    result[:, 0] = keys // n
+    result[:, 1] = keys - result[:, 0] * n
+    return result
 
 
 class BroadPhase:

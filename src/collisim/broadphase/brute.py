@@ -20,7 +20,7 @@ from ._rays import new_hit_buffers, push_hit, ray_box_entry
 def brute_force_pairs(lo, hi):
     """All overlapping box pairs (i < j). lo, hi: (n, 2) -> (k, 2) intp."""
     n = lo.shape[0]
-    pairs, count = new_pair_buffer(n), 0
+    pairs, count = new_pair_buffer(n), np.intp(0)
     for i in range(n):
         for j in range(i + 1, n):
             if boxes_overlap(lo, hi, i, j):
@@ -31,7 +31,7 @@ def brute_force_pairs(lo, hi):
 @njit(cache=True)
 def brute_force_query(lo, hi, qx0, qy0, qx1, qy1):
     """Boxes overlapping [qx0, qx1] x [qy0, qy1], ascending. lo, hi: (n, 2) -> (k,) intp."""
-    found, count = np.empty(16, np.intp), 0
+    found, count = np.empty(16, np.intp), np.intp(0)
     for i in range(lo.shape[0]):
         if box_meets_query(lo, hi, i, qx0, qy0, qx1, qy1):
             found, count = push_index(found, count, i)
@@ -42,7 +42,7 @@ def brute_force_query(lo, hi, qx0, qy0, qx1, qy1):
 def brute_force_raycast(lo, hi, ox, oy, ux, uy, max_distance):
     """Boxes the ray meets, by testing each. lo, hi: (n, 2) -> found (k,) intp,
     t_enter (k,) float64, in index order."""
-    (found, t_enter), count = new_hit_buffers(), 0
+    (found, t_enter), count = new_hit_buffers(), np.intp(0)
     for i in range(lo.shape[0]):
         t = ray_box_entry(ox, oy, ux, uy, max_distance, lo[i, 0], lo[i, 1], hi[i, 0], hi[i, 1])
         if t < np.inf:

@@ -5,7 +5,8 @@ partitions the *objects* instead: every object lives in exactly one leaf.
 Building top-down, a node takes its objects, sorts them by centre along the
 axis where the centres spread widest, and hands the first half to its left
 child and the second half to its right child (a median split of the objects;
-the code finds the median without a full sort, see ``split_in_half``).
+the code finds the median without a full sort, see ``split_in_half``; the
+tree lives in flat arrays allocated once per build, see ``build_bvh``).
 Each node stores the tight box around its objects, so sibling boxes may
 overlap — that is the price of never duplicating an object. A node with at
 most ``leaf_size`` objects is a leaf.
@@ -31,53 +32,69 @@ objects' boxes, so nothing below a node that is missed can be hit.
 import numpy as np
 from numba import njit
 
-from ._common import (BroadPhase, box_meets_query, boxes_overlap, check_boxes, check_int_option,
-                      new_pair_buffer, overlapping_in_run, push_pair, widest_axis)
+from ._common import (BroadPhase, box_meets_query, boxes_overlap, check_boxes, check_int_option, copy_row,
+                      gathered_boxes, new_pair_buffer, overlapping_in_run, push_pair, row_centre, select_smallest, widest_axis)
 from ._rays import farther_then_nearer, hits_in_run, new_hit_buffers, ray_box_entry
 
 
 @njit(cache=True)
-def split_in_half(members, keys):
-    """Reorder `members` in place so the count // 2 with the smallest keys come first.
+def split_in_half(order, rows, first, count, axis, keys, moved, moved_rows):
+    """Reorder the run [first, first + count) of order (box indices) and rows (their boxes,
+    gathered_boxes) so the count // 2 boxes with the smallest centres on `axis` come first.
 
-    members: (m,) box indices; keys: (m,) their centres on the split axis.
-    This is "sort by centre and cut the list in half", except that we only
-    need to know which half each box falls in: finding the median
-    (np.partition) takes linear time where sorting takes m log m. Boxes whose
-    centre equals the median fill up the lower half in their current order.
+    keys, moved: (n,) and moved_rows (n, 4): scratch. This is "sort by centre and cut the
+    list in half", except that we only need to know which half each box falls in: finding
+    the median (select_smallest) takes linear time where sorting takes m log m. Boxes whose
+    centre equals the median fill up the lower half in their current order, and both
+    halves keep the run's order otherwise.
     """
-    m = members.shape[0]
-    half = m // 2
-    median = np.partition(keys, half)[half]
-    ties_for_lower = half - np.sum(keys < median)
-    reordered = np.empty_like(members)
+    half = count // 2
+    for k in range(count):
+        keys[k] = row_centre(rows, first + k, axis)
+    select_smallest(keys, count, half)
+    median = keys[half]
+    ties_for_lower = half
+    for k in range(first, first + count):
+        ties_for_lower -= row_centre(rows, k, axis) < median
     lower, upper = 0, half
-    for k in range(m):
-        if keys[k] < median or (keys[k] == median and ties_for_lower > 0):
-            if keys[k] == median:
+    for k in range(first, first + count):
+        key = row_centre(rows, k, axis)
+        if key < median or (key == median and ties_for_lower > 0):
+            if key == median:
                 ties_for_lower -= 1
-            reordered[lower] = members[k]
+            to = lower
             lower += 1
         else:
-            reordered[upper] = members[k]
+            to = upper
             upper += 1
-    members[:] = reordered
+        moved[to] = order[k]
+        copy_row(rows, k, moved_rows, to)
+    for k in range(count):
+        order[first + k] = moved[k]
+        copy_row(moved_rows, k, rows, first + k)
 
 
 @njit(cache=True)
-def fit_box(lo, hi, members, node, node_lo, node_hi):
-    """Set node_lo[node], node_hi[node] to the tight box around boxes `members`."""
-    node_lo[node, 0], node_lo[node, 1] = np.inf, np.inf
-    node_hi[node, 0], node_hi[node, 1] = -np.inf, -np.inf
-    for i in members:
-        for axis in range(2):
-            node_lo[node, axis] = min(node_lo[node, axis], lo[i, axis])
-            node_hi[node, axis] = max(node_hi[node, axis], hi[i, axis])
+def fit_boxes(rows, node_first, node_count, node_left, node_lo, node_hi):
+    """Each node's tight box: a leaf's around its rows (gathered_boxes, in order's order),
+    any other node's around its two children's (numbered after it, so done first)."""
+    for node in range(node_first.shape[0] - 1, -1, -1):
+        left = node_left[node]
+        if left >= 0:
+            for axis in range(2):
+                node_lo[node, axis] = min(node_lo[left, axis], node_lo[left + 1, axis])
+                node_hi[node, axis] = max(node_hi[left, axis], node_hi[left + 1, axis])
+            continue
+        node_lo[node], node_hi[node] = np.inf, -np.inf
+        for k in range(node_first[node], node_first[node] + node_count[node]):
+            for axis in range(2):
+                node_lo[node, axis] = min(node_lo[node, axis], rows[k, axis])
+                node_hi[node, axis] = max(node_hi[node, axis], rows[k, axis + 2])
 
 
 @njit(cache=True)
 def build_bvh(lo, hi, leaf_size):
-    """Build the tree top-down by median object splits.
+    """Build the tree top-down by median object splits, into arrays allocated once.
 
     lo, hi: (n, 2), n >= 1. Returns, for m <= 2n - 1 nodes numbered depth-first:
     order (n,): box indices, each node's boxes being one contiguous run of it;
@@ -85,30 +102,33 @@ def build_bvh(lo, hi, leaf_size):
     node_first, node_count (m,): the node's run is order[first:first + count];
     node_left (m,): the left child (the right child is left + 1), -1 for a leaf;
     node_depth (m,).
+    Splitting a node only reorders its run of `order`, and of the boxes gathered beside it
+    (through scratch arrays of n): nothing is allocated per node.
     """
     n = lo.shape[0]
-    order = np.arange(n)
+    order, rows = np.arange(n), gathered_boxes(lo, hi)
+    keys, moved, moved_rows = np.empty(n), np.empty(n, np.intp), np.empty((n, 4))
     capacity = 2 * n - 1  # a binary tree with at most n leaves
-    node_lo = np.empty((capacity, 2))
-    node_hi = np.empty((capacity, 2))
     node_first = np.zeros(capacity, np.intp)
     node_count = np.zeros(capacity, np.intp)
     node_left = np.full(capacity, -1, np.intp)
     node_depth = np.zeros(capacity, np.intp)
     node_count[0] = n
     n_nodes = 1
-    stack = [0]
-    while len(stack) > 0:
-        node = stack.pop()
+    # Depth first, left child first: at most one pending right child per level, and a
+    # median split makes at most log2(n) + 1 levels.
+    stack = np.empty(66, np.intp)
+    stack[0], pending = 0, 1
+    while pending > 0:
+        pending -= 1
+        node = stack[pending]
         first, count = node_first[node], node_count[node]
-        members = order[first:first + count]
-        fit_box(lo, hi, members, node, node_lo, node_hi)
         if count <= leaf_size:
             continue
         # Split the boxes at their median centre on the axis of widest
         # spread and give each child one half.
-        axis = widest_axis(lo, hi, members)
-        split_in_half(members, 0.5 * lo[members, axis] + 0.5 * hi[members, axis])
+        axis = widest_axis(rows[first:first + count])
+        split_in_half(order, rows, first, count, axis, keys, moved, moved_rows)
         half = count // 2
         left = n_nodes
         n_nodes += 2
@@ -116,9 +136,11 @@ def build_bvh(lo, hi, leaf_size):
         node_first[left], node_count[left] = first, half
         node_first[left + 1], node_count[left + 1] = first + half, count - half
         node_depth[left] = node_depth[left + 1] = node_depth[node] + 1
-        stack.append(left + 1)
-        stack.append(left)
-    return (order, node_lo[:n_nodes], node_hi[:n_nodes], node_first[:n_nodes],
+        stack[pending], stack[pending + 1] = left + 1, left
+        pending += 2
+    node_lo, node_hi = np.empty((n_nodes, 2)), np.empty((n_nodes, 2))
+    fit_boxes(rows, node_first[:n_nodes], node_count[:n_nodes], node_left[:n_nodes], node_lo, node_hi)
+    return (order, node_lo, node_hi, node_first[:n_nodes],
             node_count[:n_nodes], node_left[:n_nodes], node_depth[:n_nodes])
 
 
@@ -140,7 +162,7 @@ def bvh_pairs(lo, hi, order, node_lo, node_hi, node_first, node_count, node_left
 
     Returns (k, 2) intp pairs with i < j.
     """
-    pairs, count = new_pair_buffer(lo.shape[0]), 0
+    pairs, count = new_pair_buffer(lo.shape[0]), np.intp(0)
     stack = [(0, 0)]
     while len(stack) > 0:
         a, b = stack.pop()
@@ -172,7 +194,7 @@ def bvh_query(lo, hi, order, node_lo, node_hi, node_first, node_count, node_left
     Returns (found (k,) intp, nodes visited, boxes tested); every box is in
     one leaf only, so there are no repeats.
     """
-    found, count, visited, tested = np.empty(16, np.intp), 0, 0, 0
+    found, count, visited, tested = np.empty(16, np.intp), np.intp(0), 0, 0
     stack = [0]
     while len(stack) > 0:
         node = stack.pop()
@@ -205,7 +227,7 @@ def bvh_raycast(lo, hi, order, node_lo, node_hi, node_first, node_count, node_le
     Returns found (k,) intp, t_enter (k,) float64, nodes visited (node boxes
     tested against the ray) and boxes tested.
     """
-    (found, t_enter), count = new_hit_buffers(), 0
+    (found, t_enter), count = new_hit_buffers(), np.intp(0)
     visited, tested = 1, 0
     stack = [0]
     if node_entry(node_lo, node_hi, 0, ox, oy, ux, uy, max_distance) == np.inf:

@@ -43,7 +43,7 @@ def _build(lo, hi):
 def cell_list_pairs(grid, lo, hi):
     """Overlapping pairs (k, 2) intp, i < j, each once: every box against the boxes of the
     3 × 3 block of cells around its own."""
-    pairs, count = new_pair_buffer(lo.shape[0]), 0
+    pairs, count = new_pair_buffer(lo.shape[0]), np.intp(0)
     for i in range(lo.shape[0]):
         cx_lo, cx_hi, cy_lo, cy_hi = neighbour_block(grid, grid.cell[i])
         for cy in range(cy_lo, cy_hi):
@@ -69,7 +69,7 @@ def _cell_range(grid, x0, y0, x1, y1):
 @njit(cache=True)
 def _boxes_in_cells(grid, cx_lo, cx_hi, cy_lo, cy_hi):
     """The boxes filed in the cells of the column and row ranges: (boxes (k,) intp, cells)."""
-    boxes, count = np.empty(16, np.intp), 0
+    boxes, count = np.empty(16, np.intp), np.intp(0)
     for cy in range(cy_lo, cy_hi):
         for cx in range(cx_lo, cx_hi):
             i = grid.head[cy * grid.nx + cx]
@@ -91,7 +91,7 @@ def cell_list_query(grid, lo, hi, half, qx0, qy0, qx1, qy1):
 @njit(cache=True)
 def cell_list_raycast(grid, lo, hi, half, ox, oy, ux, uy, max_distance):
     """Boxes the ray meets: (found (k,) intp, t_enter (k,), cells visited, boxes tested)."""
-    (found, t_enter), count = new_hit_buffers(), 0
+    (found, t_enter), count = new_hit_buffers(), np.intp(0)
     x0, y0 = grid.x0 - half, grid.y0 - half
     x1, y1 = grid.x0 + grid.nx * grid.cell_w + half, grid.y0 + grid.ny * grid.cell_h + half
     enter, leave = clip_to_slab(0.0, max_distance, ox, ux, x0, x1)   # the ray's part over the grid

@@ -123,7 +123,7 @@ def grid_pairs(lo, hi, origin, cells_per_unit, nx, ny, cell_start, cell_boxes):
     lo, hi: (n, 2); the other arguments as for and from bin_boxes.
     Returns (k, 2) intp pairs with i < j.
     """
-    pairs, count = new_pair_buffer(lo.shape[0]), 0
+    pairs, count = new_pair_buffer(lo.shape[0]), np.intp(0)
     for cell in range(nx * ny):
         first, end = cell_start[cell], cell_start[cell + 1]
         if end - first < 2:
@@ -188,7 +188,7 @@ def grid_query(lo, hi, origin, cells_per_unit, nx, ny, cell_start, cell_boxes,
     reported only from the cell holding the lower-left corner of its overlap
     with the query box.
     """
-    found, count = np.empty(16, np.intp), 0
+    found, count = np.empty(16, np.intp), np.intp(0)
     x0 = cell_of(qx0, origin[0], cells_per_unit, nx)
     x1 = cell_of(qx1, origin[0], cells_per_unit, nx)
     y0 = cell_of(qy0, origin[1], cells_per_unit, ny)

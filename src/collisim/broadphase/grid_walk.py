@@ -84,7 +84,7 @@ def grid_raycast(lo, hi, cell_start, cell_boxes, column_starts, column_ends, row
     number of boxes tested.
     """
     nx, ny = column_starts.shape[0], row_starts.shape[0]
-    (found, t_enter), count = new_hit_buffers(), 0
+    (found, t_enter), count = new_hit_buffers(), np.intp(0)
     visited = tested = 0
     start = ray_box_entry(ox, oy, ux, uy, max_distance, column_starts[0], row_starts[0],
                           column_ends[nx - 1], row_ends[ny - 1])

@@ -28,9 +28,9 @@ the lower-left corner of the two boxes' intersection: that point lies in
 both boxes, so both boxes are in that leaf, and the leaf regions tile the
 plane without overlap, so exactly one leaf reports the pair.
 
-For box queries and ray casts, :func:`build_kdtree` makes the same splits
-and stores the tree in flat arrays. A query box goes down the tree the way
-a box is filed into it: left if its min is < the split value, right if its
+:func:`grow_kdtree` builds the tree into flat arrays (allocated once per
+build, nothing per node); pairs, box queries and ray casts all read them.
+A query box goes down the tree the way a box is filed into it: left if its min is < the split value, right if its
 max is >= it. A ray goes into the children whose region it reaches within
 max_distance, nearer child first.
 """
@@ -39,47 +39,54 @@ import numpy as np
 from numba import njit
 
 from ..arrays import grown
-from ._common import (BroadPhase, bounding_box, boxes_overlap, check_boxes, check_int_option, new_pair_buffer,
-                      overlapping_in_run, push_pair, widest_axis)
+from ._common import (BroadPhase, bounding_box, boxes_overlap, check_boxes, check_int_option, copy_row, gathered_boxes,
+                      new_pair_buffer, overlapping_in_run, push_pair, row_centre, select_smallest, widest_axis)
 from ._rays import farther_then_nearer, hits_in_run, new_hit_buffers, ray_box_entry
 
 
 @njit(cache=True)
-def median_split_value(lo, hi, members, axis):
-    """Split line on `axis` with the lower half of the members' centres on its left.
-
-    lo, hi: (n, 2); members: (m,) box indices, m >= 2. np.partition puts the
-    two middle centres where a sort would (without sorting the rest).
-    """
-    half = members.shape[0] // 2
-    centres = np.partition(0.5 * lo[members, axis] + 0.5 * hi[members, axis], (half - 1, half))
-    return 0.5 * centres[half - 1] + 0.5 * centres[half]
-
-
-@njit(cache=True)
-def split_sides(lo, hi, members, axis, value):
-    """The members going left (min < value) and right (max >= value); straddlers go both ways."""
-    return members[lo[members, axis] < value], members[hi[members, axis] >= value]
+def median_split_value(rows, axis, keys):
+    """Split line on `axis` with the lower half of the centres of box rows (m, 4), m >= 2,
+    (gathered_boxes) on its left: halfway between the two middle centres. keys: (>= m,)
+    scratch. select_smallest puts the upper middle one where a sort would, and the lower
+    one is the largest before it (without sorting the rest)."""
+    m = rows.shape[0]
+    half = m // 2
+    for k in range(m):
+        keys[k] = row_centre(rows, k, axis)
+    select_smallest(keys, m, half)
+    return 0.5 * keys[:half].max() + 0.5 * keys[half]
 
 
 @njit(cache=True)
-def split_node(lo, hi, members, depth, leaf_size, max_depth):
+def side_counts(rows, axis, value):
+    """How many box rows (m, 4) go left (min < value) and right (max >= value); straddlers
+    go both ways."""
+    left = right = 0
+    for k in range(rows.shape[0]):
+        left += rows[k, axis] < value
+        right += rows[k, axis + 2] >= value
+    return left, right
+
+
+@njit(cache=True)
+def choose_split(rows, depth, leaf_size, max_depth, keys):
     """Decide whether and how to split a node.
 
-    lo, hi: (n, 2); members: (m,) indices of the boxes in the node.
-    Returns (axis, value, left members, right members), or axis -1 for a leaf.
-    Tries the axis of widest centre spread first, then the other one; a split
-    counts only if both sides end up with fewer boxes than the node.
+    rows: (m, 4) the node's boxes (gathered_boxes); keys: scratch. Returns (axis, value,
+    left count, right count), or axis -1 for a leaf. Tries the axis of widest centre
+    spread first, then the other one; a split counts only if both sides end up with
+    fewer boxes than the node.
     """
-    m = members.shape[0]
+    m = rows.shape[0]
     if m > leaf_size and depth < max_depth:
-        widest = widest_axis(lo, hi, members)
+        widest = widest_axis(rows)
         for axis in (widest, 1 - widest):
-            value = median_split_value(lo, hi, members, axis)
-            left, right = split_sides(lo, hi, members, axis, value)
-            if left.shape[0] < m and right.shape[0] < m:
+            value = median_split_value(rows, axis, keys)
+            left, right = side_counts(rows, axis, value)
+            if left < m and right < m:
                 return axis, value, left, right
-    return -1, 0.0, members, members
+    return -1, 0.0, m, m
 
 
 @njit(cache=True)
@@ -114,57 +121,74 @@ def kdtree_pairs(lo, hi, leaf_size, max_depth):
 
     lo, hi: (n, 2). Returns (pairs (k, 2) intp with i < j, node count, tree depth).
     """
-    n = lo.shape[0]
-    pairs, count = new_pair_buffer(n), 0
-    n_nodes, tree_depth = 0, 0
-    whole_plane = (-np.inf, -np.inf, np.inf, np.inf)
-    stack = [(np.arange(n), 0, whole_plane)]
-    while len(stack) > 0:
-        members, depth, region = stack.pop()
-        n_nodes += 1
-        tree_depth = max(tree_depth, depth)
-        axis, value, left, right = split_node(lo, hi, members, depth, leaf_size, max_depth)
-        if axis < 0:
-            pairs, count = leaf_pairs(lo, hi, members, region, pairs, count)
-            continue
-        left_region, right_region = split_region(region, axis, value)
-        stack.append((right, depth + 1, right_region))
-        stack.append((left, depth + 1, left_region))
-    return pairs[:count], n_nodes, tree_depth
+    node_axis, _, _, node_first, node_count, leaf_boxes, node_region, depth = grow_kdtree(
+        lo, hi, leaf_size, max_depth)
+    pairs, count = new_pair_buffer(lo.shape[0]), np.intp(0)
+    for node in range(node_axis.shape[0]):
+        if node_axis[node] < 0:
+            first, end = node_first[node], node_first[node] + node_count[node]
+            region = (node_region[node, 0], node_region[node, 1], node_region[node, 2], node_region[node, 3])
+            pairs, count = leaf_pairs(lo, hi, leaf_boxes[first:end], region, pairs, count)
+    return pairs[:count], node_axis.shape[0], depth
 
 
 @njit(cache=True)
 def build_kdtree(lo, hi, leaf_size, max_depth):
-    """Build the k-d tree (the same splits as kdtree_pairs) into flat arrays.
+    """The k-d tree in flat arrays (grow_kdtree's first six), for box queries and ray casts."""
+    return grow_kdtree(lo, hi, leaf_size, max_depth)[:6]
 
-    lo, hi: (n, 2), n >= 1. Returns, for m nodes numbered depth-first with
-    the two children of a node next to each other:
+
+@njit(cache=True)
+def grow_kdtree(lo, hi, leaf_size, max_depth):
+    """Build the k-d tree into flat arrays.
+
+    lo, hi: (n, 2). Returns, for m nodes numbered depth-first with the two
+    children of a node next to each other:
     node_axis (m,): the split axis, -1 for a leaf;
     node_value (m,): the split value (left: coordinate < value, right: >=);
     node_left (m,): the left child (the right child is left + 1), -1 for a leaf;
     node_first, node_count (m,): a leaf's boxes are
     leaf_boxes[node_first:node_first + node_count];
     leaf_boxes (total,): every leaf's boxes, one run per leaf; a box that
-    straddles a split appears in several runs.
-    Straddlers make the sizes unknown in advance, so the arrays grow as needed.
+    straddles a split appears in several runs;
+    node_region (m, 4): x0, y0, x1, y1 of each node's region (the root's is the whole plane);
+    and the tree's depth.
+
+    A node's boxes are a run of one work array (the root's: 0 .. n - 1), their boxes gathered
+    beside it (gathered_boxes). Splitting copies the right child's boxes to the top of the
+    work array and compacts the left child's in place, both in the node's order; the left child is built first, and when a node is taken from
+    the stack everything above its own run belongs to finished subtrees, so the top drops
+    back. Nothing is allocated per node: the arrays start at 2n + 1 nodes and 2n boxes and
+    double when straddlers need more.
     """
     n = lo.shape[0]
+    keys = np.empty(n)
+    work, work_rows = np.empty(2 * n, np.intp), np.empty((2 * n, 4))
+    work[:n], work_rows[:n] = np.arange(n), gathered_boxes(lo, hi)
     capacity = 2 * n + 1
     node_axis = np.empty(capacity, np.intp)
     node_value = np.empty(capacity)
     node_left = np.empty(capacity, np.intp)
     node_first = np.empty(capacity, np.intp)
     node_count = np.empty(capacity, np.intp)
+    node_region = np.empty((capacity, 4))
+    node_region[0] = (-np.inf, -np.inf, np.inf, np.inf)
     leaf_boxes = np.empty(capacity, np.intp)
-    n_nodes, n_leaf_boxes = 1, 0
-    stack = [(0, np.arange(n), 0)]
-    while len(stack) > 0:
-        node, members, depth = stack.pop()
-        axis, value, left, right = split_node(lo, hi, members, depth, leaf_size, max_depth)
+    n_nodes, n_leaf_boxes, tree_depth = 1, 0, 0
+    # Pending nodes, left child on top: node, its run's start and length, depth, and the
+    # work array's top when it is taken. At most one pending right child per level.
+    stack = np.empty((max_depth + 2, 5), np.intp)
+    stack[0] = (0, 0, n, 0, n)
+    pending = 1
+    while pending > 0:
+        pending -= 1
+        node, first, m, depth, top = stack[pending]
+        tree_depth = max(tree_depth, depth)
+        members = work[first:first + m]
+        axis, value, n_left, n_right = choose_split(work_rows[first:first + m], depth, leaf_size, max_depth, keys)
         node_axis[node], node_value[node] = axis, value
         node_left[node], node_first[node], node_count[node] = -1, n_leaf_boxes, 0
         if axis < 0:
-            m = members.shape[0]
             leaf_boxes = grown(leaf_boxes, n_leaf_boxes + m)
             leaf_boxes[n_leaf_boxes:n_leaf_boxes + m] = members
             node_count[node] = m
@@ -172,16 +196,29 @@ def build_kdtree(lo, hi, leaf_size, max_depth):
             continue
         child = n_nodes
         n_nodes += 2
-        node_axis = grown(node_axis, n_nodes)
-        node_value = grown(node_value, n_nodes)
-        node_left = grown(node_left, n_nodes)
-        node_first = grown(node_first, n_nodes)
-        node_count = grown(node_count, n_nodes)
+        node_axis, node_value, node_left = grown(node_axis, n_nodes), grown(node_value, n_nodes), grown(node_left, n_nodes)
+        node_first, node_count = grown(node_first, n_nodes), grown(node_count, n_nodes)
+        node_region = grown(node_region, n_nodes)
         node_left[node] = child
-        stack.append((child + 1, right, depth + 1))
-        stack.append((child, left, depth + 1))
-    return (node_axis[:n_nodes], node_value[:n_nodes], node_left[:n_nodes],
-            node_first[:n_nodes], node_count[:n_nodes], leaf_boxes[:n_leaf_boxes])
+        region = (node_region[node, 0], node_region[node, 1], node_region[node, 2], node_region[node, 3])
+        node_region[child], node_region[child + 1] = split_region(region, axis, value)
+        work, work_rows = grown(work, top + n_right), grown(work_rows, top + n_right)
+        right, left = top, first
+        for k in range(first, first + m):  # right first: the left compaction overwrites the run
+            if work_rows[k, axis + 2] >= value:
+                work[right] = work[k]
+                copy_row(work_rows, k, work_rows, right)
+                right += 1
+        for k in range(first, first + m):
+            if work_rows[k, axis] < value:
+                work[left] = work[k]
+                copy_row(work_rows, k, work_rows, left)
+                left += 1
+        stack[pending] = (child + 1, top, n_right, depth + 1, top + n_right)
+        stack[pending + 1] = (child, first, n_left, depth + 1, top + n_right)
+        pending += 2
+    return (node_axis[:n_nodes], node_value[:n_nodes], node_left[:n_nodes], node_first[:n_nodes],
+            node_count[:n_nodes], leaf_boxes[:n_leaf_boxes], node_region[:n_nodes], tree_depth)
 
 
 @njit(cache=True)
@@ -194,7 +231,7 @@ def kdtree_query(lo, hi, node_axis, node_value, node_left, node_first, node_coun
     files boxes, so every box overlapping the query sits in a leaf it reaches.
     Returns (found (k,) intp with repeats, nodes visited, boxes tested).
     """
-    found, count = np.empty(16, np.intp), 0
+    found, count = np.empty(16, np.intp), np.intp(0)
     visited = tested = 0
     stack = [0]
     while len(stack) > 0:
@@ -225,7 +262,7 @@ def kdtree_raycast(lo, hi, node_axis, node_value, node_left, node_first, node_co
     the nearer is searched first. Returns found (k,) intp with repeats,
     t_enter (k,) float64, nodes visited (regions tested) and boxes tested.
     """
-    (found, t_enter), count = new_hit_buffers(), 0
+    (found, t_enter), count = new_hit_buffers(), np.intp(0)
     visited, tested = 1, 0
     stack = [(0, (x0, y0, x1, y1))]
     if ray_box_entry(ox, oy, ux, uy, max_distance, x0, y0, x1, y1) == np.inf:
@@ -289,18 +326,19 @@ class KDTree(BroadPhase):
         boxes' bounding box so they can be drawn."""
         lo, hi = check_boxes(lo, hi)
         bounds = bounding_box(lo, hi) if len(lo) else (np.zeros(2), np.zeros(2))
+        node_axis, node_value, node_left, first, count, leaf_boxes = build_kdtree(
+            lo, hi, self.leaf_size, self.max_depth)
         splits, leaves = [], []
-        stack = [(np.arange(len(lo)), 0, *bounds)]
+        stack = [(0, 0, *bounds)]
         while stack:
-            members, depth, node_lo, node_hi = stack.pop()
-            axis, value, left, right = split_node(lo, hi, members, depth,
-                                                  self.leaf_size, self.max_depth)
+            node, depth, node_lo, node_hi = stack.pop()
+            axis, value, left = int(node_axis[node]), float(node_value[node]), int(node_left[node])
             if axis < 0:
-                leaves.append(members)
+                leaves.append(leaf_boxes[first[node]:first[node] + count[node]])
                 continue
             splits.append((axis, value, node_lo, node_hi, depth))
             left_hi, right_lo = node_hi.copy(), node_lo.copy()
             left_hi[axis] = right_lo[axis] = np.clip(value, node_lo[axis], node_hi[axis])
-            stack.append((right, depth + 1, right_lo, node_hi))
+            stack.append((left + 1, depth + 1, right_lo, node_hi))
             stack.append((left, depth + 1, node_lo, left_hi))
         return {"splits": splits, "leaves": leaves, "pairs": self.pairs(lo, hi)}

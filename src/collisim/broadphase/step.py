@@ -68,7 +68,6 @@ def step_state(name: str, world):
     return STATES[choose(world) if name == AUTO else name](world)
 
 
-@njit(cache=True)
 def _brute(state, lo, hi):
     return brute_force_pairs(lo, hi)
 
@@ -89,7 +88,6 @@ def _sweep_axis(lo, hi):
     return 1 if spread[1] > spread[0] else 0
 
 
-@njit(cache=True)
 def _sweep(state, lo, hi):
     n = lo.shape[0]
     axis = _sweep_axis(lo, hi)
@@ -102,23 +100,23 @@ def _sweep(state, lo, hi):
     return sweep(lo, hi, state.order, axis)
 
 
-@njit(cache=True)
 def _grid(state, lo, hi):
     start, boxes = bin_boxes(lo, hi, state.origin, state.cells_per_unit, state.nx, state.ny)
     return grid_pairs(lo, hi, state.origin, state.cells_per_unit, state.nx, state.ny, start, boxes)
 
 
-@njit(cache=True)
 def _kdtree(state, lo, hi):
     return kdtree_pairs(lo, hi, state.leaf_size, state.max_depth)[0]
 
 
-@njit(cache=True)
 def _bvh(state, lo, hi):
     order, node_lo, node_hi, first, count, left, _ = build_bvh(lo, hi, state.leaf_size)
     return bvh_pairs(lo, hi, order, node_lo, node_hi, first, count, left)
 
 
+# Plain functions: the overload below hands the state's kernel to numba as candidate_pairs'
+# implementation, so each is compiled once, inside the step (a jitted kernel behind a jitted
+# wrapper was two compiles, about a second more on a first run).
 KERNELS = {BruteState: _brute, SweepState: _sweep, GridState: _grid, KDTreeState: _kdtree, BVHState: _bvh}
 
 
@@ -130,8 +128,4 @@ def candidate_pairs(state, lo, hi):
 
 @overload(candidate_pairs)
 def _candidate_pairs(state, lo, hi):
-    kernel = KERNELS[state.instance_class]
-
-    def impl(state, lo, hi):
-        return kernel(state, lo, hi)
-    return impl
+    return KERNELS[state.instance_class]

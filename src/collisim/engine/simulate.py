@@ -19,28 +19,38 @@ METHODS = {
 
 
 MAX_EVENTS = 10_000_000   # about 500 MB of event log; the per-frame counts are always complete
+BLOCK_FRAMES = 64         # frames a stepper advances per call...
+BLOCK_BYTES = 32 * 2**20  # ...unless that many frames of positions and velocities take more room than this
 
 
-def simulate(scene: Scene, progress=None, max_events: int = MAX_EVENTS):
+def simulate(scene: Scene, progress=None, max_events: int = MAX_EVENTS, storage: str = "float64"):
     """The state at every frame time, t = 0 included: a Trajectory with frames + 1 samples.
 
     A scene made of panels gives one Trajectory per panel (a list), one of chapters a list per
     chapter. `progress(frames)` is called as frames are done. The event log keeps the first
     `max_events` collisions (0 keeps none), so a long run of a busy scene stays bounded in
     memory; the per-frame collision counts are always complete, and a cut log is said once.
+
+    `storage` (STORAGE) says how the frames are kept: "float64" as computed; "float32" half the
+    memory (positions to about 1e-7 of their size); "positions" a quarter: positions and angles
+    as float32, velocities and angular velocities not kept. The trajectory is allocated once
+    and the engine's blocks are written into it (peak memory: the trajectory plus one block of
+    at most BLOCK_BYTES plus the engine's own arrays).
     """
+    check_storage(storage)
     if scene.panels:
-        return [simulate(panel.scene, progress, max_events) for panel in scene.panels]
+        return [simulate(panel.scene, progress, max_events, storage) for panel in scene.panels]
     if scene.chapters:
-        return [simulate(chapter, progress, max_events) for chapter in scene.chapters]
-    blocks, kept, cut = [], 0, False
+        return [simulate(chapter, progress, max_events, storage) for chapter in scene.chapters]
+    recorder, kept, cut = Recorder(scene.frames + 1, storage), 0, False
     for block in stream(scene, progress=progress):
         room = max(max_events - kept, 0)
         if len(block.events) > room:
             block.events, cut = block.events.take(slice(0, room)), True
         kept += len(block.events)
-        blocks.append(block)
-    trajectory = concatenate(blocks)
+        recorder.add(block)
+        del block  # the block's arrays go now, not when the next one has been made
+    trajectory = recorder.trajectory()
     if cut and max_events > 0:
         warnings.warn(f"{scene.name}: only the first {max_events} collision events are kept in "
                       f"Trajectory.events; the per-frame collision counts are complete", stacklevel=2)
@@ -50,13 +60,24 @@ def simulate(scene: Scene, progress=None, max_events: int = MAX_EVENTS):
     return trajectory
 
 
-def stream(scene: Scene, block: int = 64, progress=None) -> Iterator[Trajectory]:
-    """Yield the trajectory in consecutive blocks of at most `block` samples, so that a long
-    render holds only one block in memory. The first block starts with the t = 0 sample."""
+def block_frames(scene: Scene) -> int:
+    """Frames per stepper call: BLOCK_FRAMES, fewer for the discrete method when that many
+    frames of positions and velocities (32 bytes a body) would exceed BLOCK_BYTES (a million
+    bodies: 1 frame). ccd keeps BLOCK_FRAMES: it rebuilds its event queue at every block."""
+    if scene.method == "ccd":
+        return BLOCK_FRAMES
+    return int(max(1, min(BLOCK_FRAMES, BLOCK_BYTES // (32 * max(scene.world.n, 1)))))
+
+
+def stream(scene: Scene, block: int | None = None, progress=None) -> Iterator[Trajectory]:
+    """Yield the trajectory in consecutive blocks of at most `block` samples (by default
+    block_frames), so that a long render holds only one block in memory. The first block
+    starts with the t = 0 sample. Every block size gives the same bytes."""
     if scene.world is None:
         raise ValueError(f"scene '{scene.name}' is made of panels or chapters; stream each one's scene")
     stepper = METHODS[scene.method](scene)
     world, total = scene.world, scene.frames
+    block = block_frames(scene) if block is None else block
     first = 0
     while first <= total:
         count = min(block, total + 1 - first)
@@ -85,17 +106,83 @@ def _initial(world) -> Frames:
 
 
 def _join(initial: Frames, frames: Frames, events: Events) -> tuple:
-    return Frames(*(np.concatenate([a, b]) for a, b in zip(initial, frames))), events
+    """The t = 0 sample followed by the first block's frames. Arrays that repeat one row
+    (constant_angles: bodies that never turn) stay a repeated row."""
+    return Frames(*(_joined(a, b) for a, b in zip(initial, frames))), events
+
+
+def _joined(initial: np.ndarray, frames: np.ndarray) -> np.ndarray:
+    if _repeats_one_row(frames) and np.array_equal(initial[0], frames[0], equal_nan=True):
+        return np.broadcast_to(frames[0], (len(frames) + 1,) + frames.shape[1:])
+    return np.concatenate([initial, frames])
+
+
+def _repeats_one_row(array: np.ndarray) -> bool:
+    """Is array one row, or a read-only view repeating one row (stride 0 along frames)?"""
+    return len(array) == 1 or (len(array) > 1 and array.strides[0] == 0)
 
 
 _PER_FRAME = ("times", "positions", "velocities", "angles", "angular_velocities", "wall_collisions",
               "pair_collisions", "segment_collisions", "candidates", "approximate")
+_STATE = ("positions", "velocities", "angles", "angular_velocities")   # what storage= applies to
+STORAGE = {"float64": (np.float64, _STATE), "float32": (np.float32, _STATE),
+           "positions": (np.float32, ("positions", "angles"))}
 
 
-def concatenate(blocks: list) -> Trajectory:
+def check_storage(storage) -> None:
+    if storage not in STORAGE:
+        raise ValueError(f"unknown storage {storage!r}; choose one of: {', '.join(STORAGE)}")
+
+
+class Recorder:
+    """A Trajectory of `samples` frames allocated once, filled block by block (add) as the
+    stepper yields them: no list of blocks, no concatenation, so memory peaks at the
+    trajectory plus one block. Arrays the blocks give as one repeated row (the angles of
+    bodies that never turn) stay one repeated row; state fields `storage` does not keep are
+    read-only NaN views (see Trajectory.storage)."""
+
+    def __init__(self, samples: int, storage: str = "float64"):
+        check_storage(storage)
+        self.samples, self.storage = samples, storage
+        self.arrays, self.filled, self.events, self.head = {}, 0, [], None
+
+    def add(self, block: Trajectory) -> None:
+        dtype, kept = STORAGE[self.storage]
+        start, end = self.filled, self.filled + len(block.times)
+        for name in _PER_FRAME:
+            value = getattr(block, name)
+            if name in _STATE and name not in kept:
+                value = np.broadcast_to(np.float32(np.nan), value.shape)
+            self._write(name, value, start, end, dtype if name in _STATE else value.dtype)
+        self.filled, self.head = end, block
+        self.events.append(block.events)
+
+    def _write(self, name: str, value: np.ndarray, start: int, end: int, dtype) -> None:
+        stored = self.arrays.get(name)
+        row_shape = value.shape[1:]
+        if stored is None and _repeats_one_row(value):
+            self.arrays[name] = np.broadcast_to(value[0].astype(dtype), (self.samples,) + row_shape)
+            return
+        if stored is not None and _repeats_one_row(stored):
+            if _repeats_one_row(value) and np.array_equal(stored[0], value[0].astype(dtype), equal_nan=True):
+                return
+            stored = self.arrays[name] = np.array(stored)  # a block that differs: keep every row after all
+        if stored is None:
+            stored = self.arrays[name] = np.empty((self.samples,) + row_shape, dtype)
+        stored[start:end] = value
+
+    def trajectory(self) -> Trajectory:
+        if self.head is None or self.filled != self.samples:
+            raise ValueError(f"the recorder holds {self.filled} of {self.samples} samples")
+        head = self.head
+        return Trajectory(**self.arrays, world=head.world, fps=head.fps, events=Events.concatenate(self.events),
+                          method=head.method, broadphase=head.broadphase, substeps=head.substeps,
+                          profile=dict(head.profile), warnings=list(head.warnings), storage=self.storage)
+
+
+def concatenate(blocks: list, storage: str = "float64") -> Trajectory:
     """Join consecutive blocks into one Trajectory."""
-    head = blocks[-1]
-    joined = {name: np.concatenate([getattr(b, name) for b in blocks]) for name in _PER_FRAME}
-    return Trajectory(**joined, world=head.world, fps=head.fps, events=Events.concatenate([b.events for b in blocks]),
-                      method=head.method, broadphase=head.broadphase, substeps=head.substeps,
-                      profile=dict(head.profile), warnings=list(head.warnings))
+    recorder = Recorder(sum(len(block.times) for block in blocks), storage)
+    for block in blocks:
+        recorder.add(block)
+    return recorder.trajectory()

@@ -78,6 +78,9 @@ class Trajectory:
     fps, method, broadphase, substeps: how it was simulated
     profile: seconds spent per phase of the step (see engine/profile.py)
     warnings: what the engine had to say about the run
+    storage: how the frames were kept (simulate's storage=): "float64"; "float32"; "positions":
+             positions and angles as float32, velocities and angular velocities not kept
+             (read-only NaN views)
     """
     times: np.ndarray
     positions: np.ndarray
@@ -97,6 +100,7 @@ class Trajectory:
     substeps: int = 1
     profile: dict = field(default_factory=dict)
     warnings: list = field(default_factory=list)
+    storage: str = "float64"
 
     _repr_html_ = trajectory_preview_html  # Jupyter shows a short preview video (notebook.py)
 
@@ -119,13 +123,20 @@ class Trajectory:
 
     def kinetic_energy(self) -> np.ndarray:
         """(F,) total kinetic energy at each frame (translation and rotation)."""
+        self._need_velocities("kinetic energy")
         translation = 0.5 * np.einsum("n,fnk,fnk->f", self.masses, self.velocities, self.velocities)
         return translation + 0.5 * np.einsum("n,fn,fn->f", self.world.inertias, self.angular_velocities,
                                              self.angular_velocities)
 
     def momentum(self) -> np.ndarray:
         """(F, 2) total momentum at each frame."""
+        self._need_velocities("momentum")
         return np.einsum("n,fnk->fk", self.masses, self.velocities)
+
+    def _need_velocities(self, what: str) -> None:
+        if self.storage == "positions":
+            raise ValueError(f"no {what}: this trajectory was simulated with storage='positions', "
+                             f"which keeps no velocities")
 
     def save(self, path) -> Path:
         """Write the trajectory to an .npz file (under a temporary name, renamed when complete)."""
@@ -137,7 +148,7 @@ class Trajectory:
             arrays.update({f"map_{name}": value for name, value in self.world.map.to_arrays().items()})
         meta = dict(format=FILE_FORMAT, fps=self.fps, method=self.method, broadphase=self.broadphase,
                     substeps=self.substeps, restitution=self.world.restitution, profile=self.profile,
-                    warnings=[str(w) for w in self.warnings])
+                    warnings=[str(w) for w in self.warnings], storage=self.storage)
         arrays["meta"] = np.array(json.dumps(meta))
         handle, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}-", suffix=".npz")
         try:
@@ -179,7 +190,7 @@ def load_trajectory(path) -> Trajectory:
         frames = {name: arrays[f"frame_{name}"] for name in _FRAME_FIELDS}
         return Trajectory(**frames, world=world, fps=float(meta["fps"]), events=events, method=meta["method"],
                           broadphase=meta["broadphase"], substeps=int(meta["substeps"]), profile=meta["profile"],
-                          warnings=list(meta["warnings"]))
+                          warnings=list(meta["warnings"]), storage=meta.get("storage", "float64"))
     except KeyError:
         raise ValueError(f"cannot read trajectory {path}: not a collisim trajectory file") from None
 

@@ -1,0 +1,77 @@
+"""How simulate keeps the frames: float64, float32 or positions only, written into one
+trajectory allocated up front (engine/simulate.py: Recorder)."""
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+import collisim
+from collisim.engine.simulate import block_frames, concatenate, stream
+from collisim.model.trajectory import load_trajectory
+
+
+@pytest.fixture(scope="module")
+def scene():
+    return collisim.load_scene("particles_250").replace(seconds=1.5)
+
+
+@pytest.fixture(scope="module")
+def exact(scene):
+    return collisim.simulate(scene)
+
+
+def test_float32_keeps_the_float64_run_rounded(scene, exact):
+    run = collisim.simulate(scene, storage="float32")
+    for name in ("positions", "velocities", "angles", "angular_velocities"):
+        kept = getattr(run, name)
+        assert kept.dtype == np.float32 and kept.shape == getattr(exact, name).shape
+        np.testing.assert_array_equal(kept, getattr(exact, name).astype(np.float32), err_msg=name)
+    np.testing.assert_array_equal(run.pair_collisions, exact.pair_collisions)
+    np.testing.assert_array_equal(run.events.impulse, exact.events.impulse)  # the engine ran in float64
+    assert run.storage == "float32"
+
+
+def test_positions_storage_keeps_no_velocities(scene, exact):
+    run = collisim.simulate(scene, storage="positions")
+    np.testing.assert_array_equal(run.positions, exact.positions.astype(np.float32))
+    assert run.velocities.shape == exact.velocities.shape and np.isnan(run.velocities).all()
+    assert not run.velocities.flags.writeable and run.velocities.strides[0] == 0  # no memory per frame
+    with pytest.raises(ValueError, match="storage='positions'"):
+        run.kinetic_energy()
+
+
+def test_bodies_that_never_turn_store_their_angles_once(exact):
+    assert np.all(exact.world.angular_velocities == 0)
+    assert exact.angles.strides[0] == 0 and exact.angles.shape == (exact.frames + 1, exact.world.n)
+    np.testing.assert_array_equal(exact.angles[-1], exact.world.angles)
+
+
+def test_blocks_shrink_for_very_many_bodies_and_give_the_same_bytes(scene, exact):
+    assert block_frames(scene) == 64
+    million = SimpleNamespace(world=SimpleNamespace(n=1_000_000), method="discrete")
+    assert block_frames(million) == 1  # 32 MB a frame
+    assert block_frames(SimpleNamespace(world=million.world, method="ccd")) == 64
+    one_by_one = concatenate(list(stream(scene, block=1)))
+    for name in ("positions", "velocities", "candidates", "pair_collisions"):
+        np.testing.assert_array_equal(getattr(one_by_one, name), getattr(exact, name), err_msg=name)
+
+
+def test_storage_survives_a_save(scene, tmp_path):
+    run = collisim.simulate(scene.replace(seconds=0.2), storage="float32")
+    loaded = load_trajectory(run.save(tmp_path / "run.npz"))
+    assert loaded.storage == "float32" and loaded.positions.dtype == np.float32
+
+
+def test_unknown_storage(scene):
+    with pytest.raises(ValueError, match="^unknown storage 'float16'; choose one of: float64, float32, positions$"):
+        collisim.simulate(scene, storage="float16")
+
+
+def test_the_memory_benchmark_counts_a_repeated_row_once(exact):
+    from collisim.analysis.bench.memory import held_bytes
+
+    held = held_bytes(exact)
+    samples, n = exact.positions.shape[:2]
+    per_frame = exact.times.nbytes + 3 * exact.wall_collisions.nbytes + exact.candidates.nbytes + samples  # + bool
+    assert held["frames"] == 2 * samples * n * 2 * 8 + 2 * n * 8 + per_frame  # angles: one row each
+    assert held["events"] == len(exact.events) * (8 + 1 + 8 + 8 + 8 + 16)
