@@ -1,21 +1,26 @@
-"""Six particles, once per broad phase, with each structure drawn over them and its candidate pairs highlighted."""
+"""The video's six particles through each broad phase, one chapter per structure built step by step on a frozen frame (brute force, sweep and prune, uniform grid, kd-tree, BVH), then the narrow phase; every count on screen is the engine's."""
 import numpy as np
 
 import collisim
 from collisim import palette
-from collisim.broadphase import describe, make
+from collisim.broadphase import describe
+from collisim.broadphase.step import GridState, box_grid
+from collisim.engine.discrete import bounding_boxes
 from collisim.model.kinds import PAIR
-from collisim.render import raster
-from collisim.render.explain import Caption, Explainer
+from collisim.render import structures as draw
+from collisim.render.explain import Caption, Explainer, Figure, image_figure
+from collisim.render.pace import Freeze, Pace, Slow, Steps
 
-TITLES = {"brute": "brute force", "sweep_prune": "sweep and prune", "grid": "uniform grid",
-          "kdtree": "kd-tree", "bvh": "bounding volume hierarchy"}
 BOX = (0.0, 0.0, 10.0, 6.0)
 # the video's six: pink, orange, blue, red, yellow, green
 COLORS = [(255, 122, 190), (255, 160, 60), (94, 172, 255), (240, 80, 80), (255, 226, 110), (120, 220, 160)]
-STRUCTURE = (150, 156, 175)
-# split down to single particles, as the video does, so every level of the trees shows
-OPTIONS = {"kdtree": {"leaf_size": 1}, "bvh": {"leaf_size": 1}}
+NAMES = ("pink", "orange", "blue", "red", "yellow", "green")
+KEY = 1.0 / 60.0     # the frame each structure is built on: the engine's first step (frame 0 has none yet)
+AFTER = 3.0          # seconds of simulation played after each build, the structure following the bodies
+HOLD = 1.5           # seconds the finished build stays frozen
+# split down to single particles, as the video does, so the termination rule shows; the engine's
+# own trees stop at two (broadphase/step.py), and every count is the same: exactly the overlapping boxes
+TREE_OPTIONS = {"leaf_size": 1}
 
 
 def six_particles():
@@ -26,105 +31,344 @@ def six_particles():
     return positions, velocities, radii
 
 
-def draw_pairs(canvas, view, positions, pairs, color, thickness):
-    if len(pairs):
-        raster.draw_lines(canvas, view, positions[pairs[:, 0]], positions[pairs[:, 1]], color, thickness)
+RADII = six_particles()[2]
+ALL_PAIRS = np.column_stack(np.triu_indices(len(RADII), 1))
+SIX = collisim.World(*six_particles(), box=BOX)
 
 
-def draw_sweep(canvas, view, info, lo, hi):
-    """The projected intervals on the sweep axis, stacked in sorted order, and the final active list."""
-    axis, order = info["axis"], info["order"]
-    xmin, ymin, xmax, ymax = BOX
-    for rank, i in enumerate(order):
-        a, b = info["intervals"][i]
-        offset = 0.15 + 0.12 * rank
-        if axis == 0:
-            start, end = [a, ymin + offset], [b, ymin + offset]
-        else:
-            start, end = [xmin + offset, a], [xmin + offset, b]
-        raster.draw_lines(canvas, view, [start], [end], COLORS[i], 3)
-    active = ", ".join(str(i) for i in info["active_steps"][-1]) if info["active_steps"] else ""
-    x, y = view.to_pixels([xmax, ymin])
-    raster.draw_text(canvas, f"sweep {'xy'[axis]}, active list: [{active}]", (x - 4, y - 8), scale=0.38,
-                     color_rgb=palette.DIM_TEXT, anchor="right")
+def boxes(state):
+    """The boxes the engine's broad phase tests in this state: each disc's bounds, grown by the
+    little it could move in a step (its speculative margin)."""
+    return bounding_boxes(SIX, state.positions, state.velocities, fps=60)
 
 
-def draw_grid(canvas, view, info):
-    nx, ny = info["shape"]
-    size, (ox, oy) = info["cell_size"], info["origin"]
-    xmin, ymin, xmax, ymax = BOX  # the grid covers the boxes; draw the part inside the world
-    xs = np.clip(ox + size * np.arange(nx + 1), xmin, xmax)
-    ys = np.clip(oy + size * np.arange(ny + 1), ymin, ymax)
-    raster.draw_lines(canvas, view, np.column_stack([xs, np.full_like(xs, ys[0])]),
-                      np.column_stack([xs, np.full_like(xs, ys[-1])]), STRUCTURE, 1)
-    raster.draw_lines(canvas, view, np.column_stack([np.full_like(ys, xs[0]), ys]),
-                      np.column_stack([np.full_like(ys, xs[-1]), ys]), STRUCTURE, 1)
-    for cx, cy in zip(*np.nonzero(info["counts"])):
-        x, y = view.to_pixels([ox + (cx + 0.1) * size, oy + (cy + 0.1) * size])
-        raster.draw_text(canvas, str(info["counts"][cx, cy]), (x, y), scale=0.35, color_rgb=palette.HIGHLIGHT)
+def plural(count, word, many=None):
+    return f"{count} {word if count == 1 else many or word + 's'}"
 
 
-def draw_kdtree(canvas, view, info):
-    for axis, value, node_lo, node_hi, depth in info["splits"]:
-        start, end = np.array(node_lo, float), np.array(node_hi, float)
-        start[axis] = end[axis] = value
-        raster.draw_lines(canvas, view, [start], [end], STRUCTURE, max(1, 3 - depth))
+def names(bodies):
+    return ", ".join(NAMES[b] for b in bodies)
 
 
-def draw_bvh(canvas, view, info):
-    for node_lo, node_hi, depth, is_leaf in info["nodes"]:
-        color = palette.pick(depth + 3) if not is_leaf else STRUCTURE
-        raster.draw_rects(canvas, view, [node_lo], [node_hi], color, 1)
+def chapter(method, title, items, steps, lines=(2, 0), side=0.0, pace=None, seconds=AFTER):
+    """One broad phase's chapter: its world simulated with that broad phase, frozen at KEY while
+    the build plays, then run on for `seconds`."""
+    positions, velocities, radii = six_particles()
+    world = collisim.World(positions=positions, velocities=velocities, radii=radii, box=BOX, colors=COLORS)
+    explainer = Explainer(items, fade=0.15, lines=lines, side=side, clock="video")
+    pace = pace or Pace(Freeze(KEY, steps.freeze_end - KEY))
+    settings = collisim.RenderSettings(hud=False, flash=True, explainer=explainer, pace=pace)
+    scene = collisim.Scene(world=world, fps=60, seconds=seconds, broadphase=method, render=settings)
+    return collisim.Scene(panels=[collisim.Panel(scene, title)], fps=60, seconds=seconds)
 
 
-DRAW = {"sweep_prune": lambda c, v, info, lo, hi: draw_sweep(c, v, info, lo, hi),
-        "grid": lambda c, v, info, lo, hi: draw_grid(c, v, info),
-        "kdtree": lambda c, v, info, lo, hi: draw_kdtree(c, v, info),
-        "bvh": lambda c, v, info, lo, hi: draw_bvh(c, v, info)}
-
-
-def plural(count, word):
-    return f"{count} {word}{'' if count == 1 else 's'}"
-
-
-def broad_caption(method, state, total):
-    """The panel's caption, from the engine's own count of this frame's candidates."""
-    if method == "brute":
-        return f"brute force: tests all {total} pairs; {plural(state.candidates, 'pair')} of boxes overlap"
-    return f"{TITLES[method]}: {plural(state.candidates, 'candidate pair')} of {total}"
-
-
-def explainer(method, radii):
-    def overlay(canvas, view, state):
-        positions = state.positions
-        lo, hi = positions - radii[:, None], positions + radii[:, None]
-        phase = make(method, **OPTIONS.get(method, {}))
-        info = phase.describe(lo, hi)
-        if method in DRAW:
-            DRAW[method](canvas, view, info, lo, hi)
-        all_pairs = np.column_stack(np.triu_indices(len(positions), 1))
-        if method == "brute":
-            draw_pairs(canvas, view, positions, all_pairs, STRUCTURE, 1)
-        draw_pairs(canvas, view, positions, info["pairs"], palette.HIGHLIGHT, 2)
-    return overlay
-
-
-def grid_note(radii):
-    """The grid's trade-off, memory for fewer checks, for the caption strip."""
+def candidates_caption(title):
     def text(state):
-        lo, hi = state.positions - radii[:, None], state.positions + radii[:, None]
-        phase = make("grid")
-        nx, ny = phase.describe(lo, hi)["shape"]
-        return f"{nx} x {ny} cells; the cell lists take {phase.stats['memory_bytes']} bytes"
+        return f"{title}: {plural(state.candidates, 'candidate pair')} of {len(ALL_PAIRS)}"
     return text
 
 
-def captions(method, radii):
-    """The panel's captions, in a strip above the box: the engine's count, and the grid's memory."""
-    items = [Caption(lambda state: broad_caption(method, state, 15), 0.0, None, "top")]
-    if method == "grid":
-        items.append(Caption(grid_note(radii), 0.0, None, "top", 1))
-    return Explainer(items, fade=0.0, lines=2)
+# --- brute force -----------------------------------------------------------------------------
+
+BRUTE = Steps(1.0, len(ALL_PAIRS), 0.3, HOLD)
+
+
+def brute_caption(state):
+    k = BRUTE.at(state)
+    if k < 0:
+        return ""
+    if not BRUTE.built(state):
+        a, b = ALL_PAIRS[k]
+        return f"testing pair {k + 1} of {len(ALL_PAIRS)}: {NAMES[a]} and {NAMES[b]}"
+    return (f"brute force tests all {len(ALL_PAIRS)} pairs, every frame; "
+            f"{plural(state.candidates, 'pair')} of boxes overlap")
+
+
+def brute_figure(canvas, rect, view, state, unit):
+    k = BRUTE.at(state)
+    tested = ALL_PAIRS if BRUTE.built(state) else ALL_PAIRS[:k + 1]
+    draw.pair_lines(canvas, view, state.positions, tested, palette.DIM_TEXT, draw.width(unit, 0.5))
+    if 0 <= k and not BRUTE.built(state):
+        draw.pair_lines(canvas, view, state.positions, ALL_PAIRS[k:k + 1], palette.HIGHLIGHT, draw.width(unit, 1.25))
+    if BRUTE.built(state):
+        draw.pair_lines(canvas, view, state.positions, describe("brute", *boxes(state))["pairs"], palette.HIGHLIGHT,
+                        draw.width(unit, 1.25))
+
+
+def brute_chapter():
+    items = [Caption(r"brute force: test every pair, every frame: $\frac{n\,(n-1)}{2}$ pairs for $n$ particles",
+                     0.0, None, "top"),
+             Caption(brute_caption, 0.0, None, "top", 1),
+             Figure(brute_figure, 0.0, None, "box")]
+    return chapter("brute", "brute force", items, BRUTE)
+
+
+# --- sweep and prune -------------------------------------------------------------------------
+
+SWEEP = Steps(1.5, len(RADII), 1.8, HOLD)
+
+
+def sweep_step(info, k):
+    """At step k of the sweep: the box taken, the active intervals it meets, the pairs the
+    broad phase reported so far, and those it reported at this step."""
+    order, rank = info["order"], np.argsort(info["order"])
+    body = int(order[k])
+    met = [j for j in info["active_steps"][k] if j != body]
+    pairs = [tuple(p) for p in info["pairs"] if max(rank[p[0]], rank[p[1]]) <= k]
+    now = [p for p in pairs if body in p]
+    return body, met, pairs, now
+
+
+def sweep_caption(state):
+    k = SWEEP.at(state)
+    if SWEEP.built(state):
+        return candidates_caption("sweep and prune")(state)
+    if k < 0:
+        return ""
+    info = describe("sweep_prune", *boxes(state))
+    body, met, pairs, now = sweep_step(info, k)
+    head = f"{k + 1} of {len(RADII)}: {NAMES[body]}"
+    if not met:
+        what = "meets no active interval: the active list restarts with it"
+    else:
+        reported = [b for p in now for b in p if b != body]
+        apart = [j for j in met if j not in reported]
+        what = f"meets {names(met)} on {'xy'[info['axis']]}"
+        what += f"; boxes overlap: reported with {names(reported)}" if reported else ""
+        what += f"; its box misses {names(apart)}'s: not reported" if apart else ""
+    return f"{head} {what} ({plural(len(pairs), 'pair')} so far)"
+
+
+def sweep_intro(state):
+    axis = "xy"[describe("sweep_prune", *boxes(state))["axis"]]
+    return f"sweep and prune: sort by the left end on {axis}, walk the list keeping the active intervals"
+
+
+def sweep_lanes(canvas, rect, view, state, unit):
+    info = describe("sweep_prune", *boxes(state))
+    k = SWEEP.at(state)
+    if SWEEP.built(state) or k < 0:
+        shown = len(RADII) if SWEEP.built(state) else 0
+        draw.sweep_lanes(canvas, rect, view, info["intervals"], info["order"], shown, range(len(RADII)), None,
+                         COLORS, unit, outline=False)
+        return
+    draw.sweep_lanes(canvas, rect, view, info["intervals"], info["order"], k + 1, info["active_steps"][k],
+                     int(info["order"][k]), COLORS, unit)
+
+
+def sweep_figure(canvas, rect, view, state, unit):
+    info = describe("sweep_prune", *boxes(state))
+    k = SWEEP.at(state)
+    if SWEEP.built(state) or k < 0:
+        pairs = info["pairs"] if SWEEP.built(state) else []
+        draw.pair_lines(canvas, view, state.positions, pairs, palette.HIGHLIGHT, draw.width(unit, 1.25))
+        return
+    body, met, pairs, now = sweep_step(info, k)
+    x = info["intervals"][body, 0]
+    draw.raster.draw_lines(canvas, view, [[x, BOX[1]]], [[x, BOX[3]]], palette.HIGHLIGHT, draw.width(unit, 0.5))
+    draw.rings(canvas, view, state.positions, RADII, met, palette.DIM_TEXT, unit)
+    draw.rings(canvas, view, state.positions, RADII, [body], palette.HIGHLIGHT, unit, 1.25)
+    draw.pair_lines(canvas, view, state.positions, pairs, palette.HIGHLIGHT, draw.width(unit, 1.25))
+
+
+def sweep_chapter():
+    items = [Caption(sweep_intro, 0.0, None, "top"),
+             Caption(sweep_caption, 0.0, None, "top", 1),
+             Figure(sweep_lanes, 0.0, None, "bottom"),
+             Figure(sweep_figure, 0.0, None, "box")]
+    return chapter("sweep_prune", "sweep and prune", items, SWEEP, lines=(2, 3))
+
+
+# --- uniform grid ----------------------------------------------------------------------------
+
+GRID = Steps(1.5, len(RADII), 1.2, 4.0)
+ENGINE_GRID = box_grid(BOX, RADII)         # the grid the engine keeps for this world
+CHART_SIZES = (0.6, 0.8, 1.0, 1.3, 1.6, 2.0, 2.5, 3.2, 4.0, 5.0, 6.5, 10.0)
+
+
+def grid_of(cell_size) -> GridState:
+    """The engine's grid over the box at another cell size (the layout box_grid makes)."""
+    width, height = BOX[2] - BOX[0], BOX[3] - BOX[1]
+    return GridState(np.array(BOX[:2]), 1.0 / cell_size, int(width // cell_size) + 1, int(height // cell_size) + 1)
+
+
+def grid_numbers(state, grid=ENGINE_GRID):
+    """The engine's binning of this frame: boxes per cell, the pair tests it leads to (pairs
+    sharing a cell), and the bytes of its two arrays (cell starts and entries)."""
+    members, memory = draw.cell_members(*boxes(state), grid)
+    counts = np.array([len(m) for m in members])
+    tests = int(sum(c * (c - 1) // 2 for c in counts))
+    return members, counts, tests, int(memory)
+
+
+def grid_intro(state):
+    size = 1.0 / ENGINE_GRID.cells_per_unit
+    return (f"uniform grid: {ENGINE_GRID.nx} x {ENGINE_GRID.ny} cells of side {size:.1f}; "
+            f"each particle goes into every cell its box touches")
+
+
+def grid_caption(state):
+    k = GRID.at(state)
+    members, counts, tests, memory = grid_numbers(state)
+    if GRID.built(state):
+        return (f"only particles sharing a cell are tested: {plural(tests, 'pair test')}, "
+                f"{plural(state.candidates, 'candidate pair')} of {len(ALL_PAIRS)}; the cells take {memory} bytes")
+    if k < 0:
+        return ""
+    cells = sum(k in m for m in members)
+    return f"{k + 1} of {len(RADII)}: {NAMES[k]} goes into {plural(cells, 'cell')}; the tags count each cell's particles"
+
+
+def grid_figure(canvas, rect, view, state, unit):
+    k = len(RADII) - 1 if GRID.built(state) else GRID.at(state)
+    draw.grid_lines(canvas, view, BOX, ENGINE_GRID, unit)
+    members, _ = draw.cell_members(*boxes(state), ENGINE_GRID)
+    filed = np.array([int(np.sum(m <= k)) for m in members])
+    if 0 <= k and not GRID.built(state):
+        draw.rings(canvas, view, state.positions, RADII, [k], palette.HIGHLIGHT, unit, 1.25)
+    if GRID.built(state):
+        shared = [tuple(p) for p in ALL_PAIRS if any(p[0] in m and p[1] in m for m in members)]
+        draw.pair_lines(canvas, view, state.positions, shared, palette.DIM_TEXT, draw.width(unit, 0.5))
+        draw.pair_lines(canvas, view, state.positions, describe("grid", *boxes(state))["pairs"], palette.HIGHLIGHT,
+                        draw.width(unit, 1.25))
+    draw.cell_counts(canvas, view, BOX, ENGINE_GRID, filed, state.positions, RADII, unit)
+
+
+def grid_chart(state):
+    """Memory and pair tests of this frame's binning at other cell sizes, drawn once."""
+    found = [grid_numbers(state, grid_of(size)) for size in CHART_SIZES]
+    return draw.grid_chart(CHART_SIZES, [f[3] for f in found], [f[2] for f in found],
+                           1.0 / ENGINE_GRID.cells_per_unit, (440, 620))
+
+
+def grid_chapter():
+    items = [Caption(grid_intro, 0.0, None, "top"),
+             Caption(grid_caption, 0.0, None, "top", 1),
+             Caption("small cells: fewer tests, more memory; large cells: the reverse", GRID.end, None, "top", 2),
+             Figure(grid_figure, 0.0, None, "box"),
+             Figure(image_figure(grid_chart), GRID.end, None, "side")]
+    return chapter("grid", "uniform grid", items, GRID, lines=(3, 0), side=0.3)
+
+
+# --- kd-tree ---------------------------------------------------------------------------------
+
+def kd_splits(state):
+    """The tree's splits, level by level (the order the video draws them)."""
+    splits = describe("kdtree", *boxes(state), **TREE_OPTIONS)["splits"]
+    return sorted(splits, key=lambda split: split[4])
+
+
+def kd_split_count():
+    positions, velocities, _ = six_particles()   # the frame at KEY: no wall or pair is met before it
+    lo, hi = positions + KEY * velocities - RADII[:, None], positions + KEY * velocities + RADII[:, None]
+    return len(describe("kdtree", lo, hi, **TREE_OPTIONS)["splits"])
+
+
+KD = Steps(1.5, kd_split_count(), 1.6, 4.0)
+
+
+def kd_caption(state):
+    k = KD.at(state)
+    if KD.live(state):
+        return candidates_caption("kd-tree")(state)
+    if KD.built(state):
+        leaves = [leaf for leaf in describe("kdtree", *boxes(state), **TREE_OPTIONS)["leaves"] if len(leaf) > 1]
+        return (f"leaves of 2 or more: {' | '.join(names(leaf) for leaf in leaves)}; "
+                f"their overlapping boxes: {plural(state.candidates, 'candidate pair')}")
+    if k < 0:
+        return ""
+    axis, value, _, _, depth = kd_splits(state)[k]
+    return f"split {k + 1} of {KD.count}: the median on {'xy'[axis]}, at {'xy'[axis]} = {value:.2f} (depth {depth})"
+
+
+def kd_figure(canvas, rect, view, state, unit):
+    splits = kd_splits(state)
+    shown = len(splits) if KD.built(state) else KD.at(state) + 1
+    lo, hi = boxes(state)
+    region_lo, region_hi = lo.min(axis=0), hi.max(axis=0)
+    draw.raster.draw_rects(canvas, view, [region_lo], [region_hi], palette.DIM_TEXT, draw.width(unit, 0.5))
+    draw.kd_splits(canvas, view, splits, shown, unit, newest=not KD.built(state))
+    if KD.built(state):
+        leaves = describe("kdtree", lo, hi, **TREE_OPTIONS)["leaves"]
+        crowded = sorted({int(b) for leaf in leaves if len(leaf) > 1 for b in leaf})
+        draw.rings(canvas, view, state.positions, RADII, crowded, palette.DIM_TEXT, unit)
+        draw.pair_lines(canvas, view, state.positions, describe("kdtree", lo, hi)["pairs"], palette.HIGHLIGHT,
+                        draw.width(unit, 1.25))
+
+
+def kd_chapter():
+    items = [Caption("kd-tree: split at the median of the centres, on the axis they spread widest; "
+                     "repeat on each side", 0.0, None, "top"),
+             Caption(kd_caption, 0.0, None, "top", 1),
+             Caption("stop at one particle, or when no median split leaves both sides smaller "
+                     "(straddlers go to both)", KD.end, None, "top", 2),
+             Figure(kd_figure, 0.0, None, "box")]
+    return chapter("kdtree", "kd-tree", items, KD, lines=(3, 0))
+
+
+# --- bounding volume hierarchy ---------------------------------------------------------------
+
+def bvh_at_key():
+    positions, velocities, _ = six_particles()
+    lo, hi = positions + KEY * velocities - RADII[:, None], positions + KEY * velocities + RADII[:, None]
+    info = describe("bvh", lo, hi, **TREE_OPTIONS)
+    return max(node[2] for node in info["nodes"]) + 1, len(info["pairs"])
+
+
+LEVELS, BVH_PAIRS = bvh_at_key()
+BVH = Steps(1.5, LEVELS + BVH_PAIRS, 1.8, HOLD)
+
+
+def leaf_of(info):
+    """The node index of each body's leaf."""
+    leaf_nodes = [k for k, node in enumerate(info["nodes"]) if node[3]]
+    return {int(b): node for node, members in zip(leaf_nodes, info["leaves"]) for b in members}
+
+
+def bvh_caption(state):
+    k = BVH.at(state)
+    if BVH.built(state):
+        return candidates_caption("bounding volume hierarchy")(state)
+    if k < 0:
+        return ""
+    info = describe("bvh", *boxes(state), **TREE_OPTIONS)
+    if k < LEVELS:
+        count = sum(node[2] == k for node in info["nodes"])
+        return f"level {k}: {plural(count, 'box', 'boxes')}, each split in half at the median particle along its wider axis"
+    j = k - LEVELS
+    a, b = info["pairs"][j]
+    return (f"traversal: {NAMES[a]}'s and {NAMES[b]}'s leaf boxes overlap: candidate pair {j + 1} "
+            f"of {len(info['pairs'])}; boxes that miss are never opened")
+
+
+def bvh_figure(canvas, rect, view, state, unit):
+    info = describe("bvh", *boxes(state), **TREE_OPTIONS)
+    k = BVH.at(state)
+    depth = LEVELS - 1 if BVH.built(state) or k >= LEVELS else k
+    if k < 0 and not BVH.built(state):
+        return
+    lit = []
+    if LEVELS <= k and not BVH.built(state):
+        leaf = leaf_of(info)
+        lit = [leaf[int(b)] for b in info["pairs"][k - LEVELS]]
+    draw.bvh_boxes(canvas, view, info["nodes"], depth, lit, unit, newest=k < LEVELS and not BVH.built(state))
+    if BVH.built(state) or k >= LEVELS:
+        done = info["pairs"] if BVH.built(state) else info["pairs"][:k - LEVELS + 1]
+        draw.pair_lines(canvas, view, state.positions, done, palette.HIGHLIGHT, draw.width(unit, 1.25))
+
+
+def bvh_chapter():
+    items = [Caption("BVH: split the particles, not space; a tight box around each half (boxes may overlap)",
+                     0.0, None, "top"),
+             Caption(bvh_caption, 0.0, None, "top", 1),
+             Figure(bvh_figure, 0.0, None, "box")]
+    return chapter("bvh", "bounding volume hierarchy", items, BVH)
+
+
+# --- the narrow phase ------------------------------------------------------------------------
+
+FIRST_TOUCH = 0.35            # the first pair collision the engine finds (pink and orange; tested)
+NARROW_PACE = Pace(Slow(0.15, FIRST_TOUCH, 0.2), Freeze(FIRST_TOUCH, 3.0), Slow(FIRST_TOUCH, 0.6, 0.2))
 
 
 def touching_now(state):
@@ -139,35 +383,29 @@ def narrow_caption(state):
             f"{plural(state.candidates, 'candidate')} touched")
 
 
-def narrow_phase(radii):
-    """What every broad phase hands on: the candidates, and the pairs that really touch."""
-    def overlay(canvas, view, state):
-        positions = state.positions
-        pairs = describe("sweep_prune", positions - radii[:, None], positions + radii[:, None])["pairs"]
-        draw_pairs(canvas, view, positions, pairs, palette.HIGHLIGHT, 1)
-        draw_pairs(canvas, view, positions, touching_now(state), palette.FLASH, 3)
-    return overlay
-
-
-def panel(method):
-    positions, velocities, radii = six_particles()
-    world = collisim.World(positions=positions, velocities=velocities, radii=radii, box=BOX, colors=COLORS)
-    settings = collisim.RenderSettings(hud=False, flash=True, overlay=explainer(method, radii),
-                                       explainer=captions(method, radii))
-    scene = collisim.Scene(world=world, fps=60, seconds=12.0, broadphase=method, render=settings)
-    return collisim.Panel(scene, TITLES[method])
+def narrow_figure(canvas, rect, view, state, unit):
+    pairs = describe("sweep_prune", *boxes(state))["pairs"]
+    draw.pair_lines(canvas, view, state.positions, pairs, palette.DIM_TEXT, draw.width(unit, 0.75))
+    draw.pair_lines(canvas, view, state.positions, touching_now(state), palette.HIGHLIGHT, draw.width(unit, 2.0))
 
 
 def narrow_panel():
     positions, velocities, radii = six_particles()
     world = collisim.World(positions=positions, velocities=velocities, radii=radii, box=BOX, colors=COLORS)
-    settings = collisim.RenderSettings(hud=False, flash=True, overlay=narrow_phase(radii),
-                                       explainer=Explainer([Caption(narrow_caption, 0.0, None, "top")], fade=0.0,
-                                                           lines=2))
-    return collisim.Panel(collisim.Scene(world=world, fps=60, seconds=12.0, render=settings),
-                          "then the narrow phase: exact tests")
+    items = [Caption(r"then the narrow phase tests each candidate exactly: touching when "
+                     r"$|p_i - p_j| \leq r_i + r_j$", 0.0, None, "top"),
+             Caption(narrow_caption, 0.0, None, "top", 1),
+             Figure(narrow_figure, 0.0, None, "box")]
+    settings = collisim.RenderSettings(hud=False, flash=True, pace=NARROW_PACE,
+                                       explainer=Explainer(items, fade=0.0, lines=2))
+    return collisim.Panel(collisim.Scene(world=world, fps=60, seconds=6.0, render=settings), "the narrow phase")
+
+
+def narrow_chapter():
+    return collisim.Scene(panels=[narrow_panel()], fps=60, seconds=6.0)
 
 
 def scene() -> collisim.Scene:
-    panels = [panel(method) for method in ("brute", "sweep_prune", "grid", "kdtree", "bvh")] + [narrow_panel()]
-    return collisim.Scene(panels=panels, fps=60, seconds=12.0, render=collisim.RenderSettings(layout=(2, 3)))
+    chapters = [brute_chapter(), sweep_chapter(), grid_chapter(), kd_chapter(), bvh_chapter(), narrow_chapter()]
+    return collisim.Scene(chapters=chapters, fps=60,
+                          seconds=sum(collisim.pipeline.video_seconds(c) for c in chapters))

@@ -31,7 +31,9 @@ def velocity_tip(state):
 
 
 def bounce_count(state):
-    return f"wall contacts found by the engine so far: {int((state.events.kind == WALL).sum())}"
+    """The engine's running count (state.events holds only the current block's collisions; with
+    one body every collision is a wall contact)."""
+    return f"wall contacts found by the engine so far: {state.total_collisions}"
 
 
 def explainer() -> Explainer:
@@ -48,7 +50,7 @@ def explainer() -> Explainer:
         Arrow(lambda s: s.positions[0], velocity_tip, 0.5),
         Caption(bounce_count, after_first_bounce(3.5), np.inf, "bottom"),
         Caption(r"with $e = 1$ each bounce keeps the energy: $\frac{1}{2} m v^2 + m g y$ stays the same, "
-                r"so does the apex", after_first_bounce(3.5), np.inf, "bottom", 1),
+                r"so does the apex", after_first_bounce(4.0), np.inf, "bottom", 1),   # after the line's fade
     ])
 
 

@@ -40,11 +40,18 @@ def conserved(world):
 
 
 def velocities(world, state, impulse):
-    """((v1, v2) before, (v1, v2) after) the impact, at its sample."""
-    n = line_of_centres(state)
-    m1, m2 = world.masses
-    after1, after2 = state.velocities[0], state.velocities[1]
-    return (after1 + impulse * n / m1, after2 - impulse * n / m2), (after1, after2)
+    """((v1, v2) before, (v1, v2) after) the first impact. Before: the velocities they start with,
+    since nothing acts on them until they meet (no gravity, no wall reached first). After: read at
+    the impact's sample, the first time it is asked (the freeze holds that sample); the answer is
+    kept, since later samples have moved on (velocities changed by walls)."""
+    key = id(world)   # the first impact only: a later block's events may hold a later one
+    if key not in _AT_IMPACT:
+        after1, after2 = state.velocities[0].copy(), state.velocities[1].copy()
+        _AT_IMPACT[key] = (world.velocities[0].copy(), world.velocities[1].copy()), (after1, after2)
+    return _AT_IMPACT[key]
+
+
+_AT_IMPACT = {}
 
 
 def split(world):

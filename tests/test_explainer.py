@@ -18,9 +18,12 @@ def scenes_within(scene):
 
 
 def key_frames(scene, quality, count=6):
-    """`count` video frames spread over the render at that quality."""
-    frames = collisim.pipeline.plan(scene, quality=quality).frames
-    return np.linspace(0, frames - 1, count).astype(int)
+    """`count` video frames spread over the render at that quality, and three in every chapter
+    (a third, two thirds and the end of it), so each chapter's build is measured."""
+    job = collisim.pipeline.plan(scene, quality=quality)
+    starts = np.cumsum([0] + [c.frames for c in job.chapters])
+    inside = [int(start + share * (c.frames - 1)) for start, c in zip(starts, job.chapters) for share in (0.33, 0.66, 1.0)]
+    return np.unique(np.concatenate([np.linspace(0, job.frames - 1, count).astype(int), inside]))
 
 
 @pytest.mark.parametrize("name", ["single_bounce", "two_bodies", "teacher_drop", "tunneling", "broadphase_six", "frame_rate"])
@@ -41,6 +44,8 @@ def test_explained_scenes_keep_text_in_its_strips_and_panel(name, quality, tmp_p
                 assert explain.inside(rect, bound), (quality, frame, kind, rect, bound)
                 seen.add(kind)
     assert "caption" in seen
+    if name == "broadphase_six":
+        assert "figure" in seen     # the structures, the sweep's lanes and the grid's chart stay in their regions
 
 
 def test_text_grows_with_the_frame():

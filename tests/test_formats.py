@@ -244,7 +244,7 @@ def test_version():
 
 
 def test_panel_scene_says_which_physics_flags_it_ignores(tmp_path):
-    result = run_cli("render", "broadphase_six", "--seconds", "0.4", "--size", "160x90", "--no-progress",
+    result = run_cli("render", "collision_map", "--seconds", "0.4", "--size", "160x90", "--no-progress",
                      "--method", "ccd", "--substeps", "2", "--out", tmp_path / "f.mp4")
     assert result.returncode == 0, result.stderr
     notes = [line for line in result.stderr.splitlines() if line.startswith("collisim: note: ") and "--" in line]

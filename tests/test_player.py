@@ -118,3 +118,15 @@ def test_the_hud_reaches_its_last_frame_on_the_last_video_frame(fps):
     assert player.state.sample == player.last_sample > 0
     line = hud_lines(player._block, player.last_sample, player.state)[0]
     assert f"frame {player.last_sample}/{player.last_sample}" in line
+
+
+@pytest.mark.parametrize("size", [(854, 480), (1920, 1080)])
+def test_the_hud_line_stays_inside_its_panel(size):
+    """A long HUD line shrinks to the panel's width (at -qh it grows with the frame first)."""
+    from collisim.render.hud import draw_hud
+    canvas = np.zeros((size[1], size[0], 3), np.uint8)
+    lines = ["t =  1.233 s   frame 74/476 at 60 fps", "discrete | brute (auto)",
+             "pairs: 0 candidates, 0 collisions", "collisions: 3"]
+    draw_hud(canvas, (0, 0, *size), lines, 0.55 * max(1.0, size[1] / 480))
+    columns = np.flatnonzero(canvas.any(axis=(0, 2)))
+    assert 0 < columns[0] and columns[-1] < size[0] - 5

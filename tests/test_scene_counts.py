@@ -33,25 +33,106 @@ def numbers(text):
     return [int(n) for n in re.findall(r"\d+", text)]
 
 
-def test_the_narrow_phase_caption_counts_what_the_engine_found_on_every_frame(six):
-    panel = six.narrow_panel()
+def played(six, index):
+    """(state, trajectory) at every video frame of chapter `index` of broadphase_six at -ql, the
+    states as the player builds them (clock set, frozen frames included), the trajectory the
+    engine's own run of that chapter's panel, simulated here apart from the player."""
+    from collisim.render.player import make_players
+    scene = six.scene()
+    panel = scene.chapters[index].panels[0]
     trajectory = collisim.simulate(panel.scene)
+    job = collisim.pipeline.plan(scene, quality="l")
+    chapter = job.chapters[index]
+    player = make_players(chapter, job.size, job.fps)[0]
+    for frame in range(chapter.frames):
+        player.advance(frame)
+        player.state.clock = player.clock
+        yield player.state, trajectory
+
+
+def engine_candidates(state, trajectory):
+    return int(trajectory.candidates[state.sample])
+
+
+def test_brute_force_says_it_tests_all_15_pairs_and_counts_the_engines_overlaps(six):
+    from collisim.broadphase import describe
+    walked = set()
+    for state, trajectory in played(six, 0):
+        found = numbers(six.brute_caption(state))
+        if six.BRUTE.built(state):
+            assert found == [15, engine_candidates(state, trajectory)] and 15 == 6 * 5 // 2
+            drawn = describe("brute", *six.boxes(state))["pairs"]
+            assert len(drawn) == engine_candidates(state, trajectory)     # the lit pairs are the engine's
+        elif found:
+            assert found[1] == 15
+            walked.add(found[0])
+    assert walked == set(range(1, 16))      # every pair is shown being tested
+
+
+def test_sweep_and_prune_reports_pairs_one_step_at_a_time_up_to_the_engines_count(six):
+    so_far, at_key = [], None
+    for state, trajectory in played(six, 1):
+        text = six.sweep_caption(state)
+        if six.SWEEP.built(state):
+            assert numbers(text) == [engine_candidates(state, trajectory), 15]
+        elif text:
+            so_far.append(numbers(text)[-1])
+            at_key = engine_candidates(state, trajectory)
+    assert so_far == sorted(so_far) and so_far[-1] == at_key == 2    # grows to the engine's count
+
+
+def cells_touched(lo, hi, origin, size):
+    """Cells (ix, iy) each box overlaps, counted here by brute force."""
+    first, last = np.floor((lo - origin) / size).astype(int), np.floor((hi - origin) / size).astype(int)
+    return [{(x, y) for x in range(a[0], b[0] + 1) for y in range(a[1], b[1] + 1)} for a, b in zip(first, last)]
+
+
+def test_the_grid_counts_its_tests_its_memory_and_the_engines_candidates(six):
+    grid, checked = six.ENGINE_GRID, 0
+    for state, trajectory in played(six, 2):
+        if not six.GRID.built(state):
+            continue
+        tests, candidates, total, memory = numbers(six.grid_caption(state))
+        touched = cells_touched(*six.boxes(state), grid.origin, 1.0 / grid.cells_per_unit)
+        # the grid tests every pair within each cell (a pair sharing two cells is tested in both)
+        in_cell = [sum(cell in cells for cells in touched) for cell in set().union(*touched)]
+        assert (tests, candidates, total) == (sum(k * (k - 1) // 2 for k in in_cell),
+                                              engine_candidates(state, trajectory), 15)
+        assert memory == 8 * (grid.nx * grid.ny + 1) + 8 * sum(len(cells) for cells in touched)
+        checked += 1
+    assert checked > 0
+
+
+def test_the_kd_tree_and_the_bvh_count_the_engines_candidates(six):
+    from collisim.broadphase import describe
+    for index, steps, caption in ((3, six.KD, six.kd_caption), (4, six.BVH, six.bvh_caption)):
+        seen = set()
+        for state, trajectory in played(six, index):
+            text, expected = caption(state), engine_candidates(state, trajectory)
+            if steps.live(state) or (steps.built(state) and index == 4):
+                assert numbers(text) == [expected, 15]
+            elif steps.built(state):
+                assert numbers(text)[-1] == expected
+            elif text.startswith("split"):
+                k, count = numbers(text)[:2]
+                assert count == len(describe("kdtree", *six.boxes(state), leaf_size=1)["splits"])
+                seen.add(k)
+            elif text.startswith("traversal"):
+                assert numbers(text)[-1] == expected
+                seen.add(numbers(text)[-2])
+        assert seen == set(range(1, steps.count + 1)) if index == 3 else seen == {1, 2}
+
+
+def test_the_narrow_phase_caption_counts_what_the_engine_found_on_every_frame(six):
     touched = 0
-    for state in states(trajectory):
+    for state, trajectory in played(six, 5):
         found = numbers(six.narrow_caption(state))
         assert found == [trajectory.pair_collisions[state.sample], trajectory.candidates[state.sample]]
         assert len(six.touching_now(state)) == trajectory.pair_collisions[state.sample]
         touched += found[0]
     assert touched > 0   # the scene does show pairs touching
-
-
-@pytest.mark.parametrize("method", ["brute", "sweep_prune", "grid", "kdtree", "bvh"])
-def test_each_broad_phase_caption_counts_the_engines_candidates(six, method):
-    trajectory = collisim.simulate(six.panel(method).scene)
-    for state in states(trajectory):
-        text = six.broad_caption(method, state, 15)
-        assert trajectory.candidates[state.sample] in numbers(text)
-        assert ("1 candidate pair " in text + " ") or "1 candidate pairs" not in text   # grammar
+    events = trajectory.events
+    assert events.time[events.kind == 1][0] == pytest.approx(six.FIRST_TOUCH)   # the slow motion is around it
 
 
 def test_tunneling_counts_each_missed_particle_once():
@@ -71,3 +152,46 @@ def test_tunneling_counts_each_missed_particle_once():
         total += once(before, after)
         every += int(module.barrier_crossings(before, after).sum())
     assert 0 < total <= world.n < every     # repeated crossings happen, and are not counted again
+
+
+def scene_module(name):
+    import importlib.util
+    spec = importlib.util.spec_from_file_location(f"{name}_counts", available_scenes()[name])
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def played_scene(scene, quality="l"):
+    """The player's state at every video frame of a one-panel scene (clock set)."""
+    from collisim.render.player import make_players
+    job = collisim.pipeline.plan(scene, quality=quality)
+    player = make_players(job.chapters[0], job.size, job.fps)[0]
+    for frame in range(job.frames):
+        player.advance(frame)
+        player.state.clock = player.clock
+        yield player.state
+
+
+def test_single_bounce_counts_every_wall_contact_so_far():
+    module = scene_module("single_bounce")
+    scene = module.scene()
+    trajectory = collisim.simulate(scene)
+    for state in played_scene(scene):
+        assert numbers(module.bounce_count(state)) == [int(trajectory.collisions[:state.sample + 1].sum())]
+
+
+def test_two_bodies_reads_its_before_and_after_at_the_impact_and_they_conserve():
+    """The velocities before and after are the impact's on every later frame (not re-read from
+    samples that have moved on): momentum and energy agree to the printed digits."""
+    module = scene_module("two_bodies")
+    scene = module.scene()
+    world = scene.world
+    texts = set()
+    for state in played_scene(scene):
+        if state.clock >= module.PACE.video_time(module.IMPACT) and module.impact(state) is not None:
+            texts.add(module.conserved(world)(state))
+    assert len(texts) == 1
+    momentum_before, momentum_after, energy_before, energy_after = \
+        [tuple(map(float, re.findall(r"-?\d+\.\d+", part))) for part in re.split(r"\$\\to\$|energy", texts.pop())]
+    assert momentum_before == momentum_after and energy_before == energy_after

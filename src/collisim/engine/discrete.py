@@ -3,7 +3,8 @@
 One step of dt is the pipeline below, each phase timed into the profile (engine/profile.py):
 
     broad         candidate pairs from the bodies' bounding boxes grown by their speculative
-                  margins (any of the five broad phases)
+                  margins (any of the five broad phases), from the state the step starts from
+                  (found at the end of the step before, so a frame's candidates are its own)
     narrow        contact rows: pairs within their margins, bodies held by a wall
                   (response/rows.py)
     response      impacts (Newton's impulse), then the contact solver: warm-started sequential
@@ -76,6 +77,20 @@ def _bounds(bodies, margin, lo, hi):
         for axis in range(2):
             lo[i, axis] = bodies.positions[i, axis] - reach
             hi[i, axis] = bodies.positions[i, axis] + reach
+
+
+def bounding_boxes(world, positions, velocities, fps: float, substeps: int = 1):
+    """The boxes (lo, hi) (n, 2) the discrete step's broad phase sees for bodies in this state:
+    each body's bounds grown by its speculative margin (response/rows.py), for scenes that draw
+    what the engine tests."""
+    margin, lo, hi = np.empty(world.n), np.empty((world.n, 2)), np.empty((world.n, 2))
+    velocities = np.ascontiguousarray(velocities, np.float64)
+    margins(velocities, world.angular_velocities, world.accelerations, world.radii, 1.0 / fps / substeps, margin)
+    bodies = Bodies(world.shapes, np.ascontiguousarray(positions, np.float64), velocities, world.angles,
+                    world.angular_velocities, world.accelerations, world.radii, world.masses, world.inertias,
+                    world.vertex_start, world.body_vertices)
+    _bounds(bodies, margin, lo, hi)
+    return lo, hi
 
 
 @njit(cache=True)
@@ -219,17 +234,17 @@ def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, memor
     push, shift, push_turn, shift_turn = np.zeros((n, 2)), np.zeros((n, 2)), np.zeros(n), np.zeros(n)
     vertices, moved = np.empty_like(b.body_vertices), np.empty((_largest_polygon(b.vertex_start), 2))
     scratch = statics_scratch(n, s.segments.shape[0])
+    # each step's contacts are found from the state that ends the step before (so a frame's
+    # candidates are those of the state it records); the first, from the state given
+    rows, count, candidates, t = _contact_phases(b, s, broad, dt, margin, lo, hi, vertices, moved, phase_cycles,
+                                                 cycles())
     for frame in range(out.positions.shape[0]):
         frame_collisions = out.collisions[frame]
         for _ in range(substeps):
             step_count += 1
             now = step_count * dt
-            t = cycles()
             if has_map(s.map):
                 scratch[2][:] = b.positions
-            rows, count, candidates, t = _contact_phases(b, s, broad, dt, margin, lo, hi, vertices, moved,
-                                                         phase_cycles, t)
-            out.candidates[frame] = candidates
             v, w, m, inertia = b.velocities, b.angular_velocities, b.masses, b.inertias
             collide(rows, count, v, w, b.accelerations, m, inertia, s.restitution, s.friction, s.rest_speed, dt,
                     s.iterations)
@@ -254,6 +269,9 @@ def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, memor
                 for i in range(n):
                     push_out(s.map, b.positions, b.radii[i], i)
                 t = _lap(phase_cycles, SETTLE, t)
+            rows, count, candidates, t = _contact_phases(b, s, broad, dt, margin, lo, hi, vertices, moved,
+                                                         phase_cycles, t)
+        out.candidates[frame] = candidates
         out.positions[frame] = b.positions
         out.velocities[frame] = b.velocities
         if out.angles.shape[1] == n:  # bodies that turn (see new_frames)

@@ -11,6 +11,13 @@ A scene asks for it with `RenderSettings(explainer=Explainer([...]))`. Its items
 * `Mark(bodies, start, end, labels=None)`: numbers bodies (or labels them) beside them, with a
   ring, so a caption can name "particle 2".
 * `Note(text, at, start, end)`: a short label next to a world point (or a function of state).
+* `Figure(draw, start, end, place="side")`: a picture of the scene's own drawn by
+  `draw(canvas, rect, view, state, unit)` inside a region beside the simulation: the "side"
+  column (`Explainer(side=0.3)` reserves that share of the panel's width at the right) or a
+  caption strip ("top", "bottom", which then holds no captions), or "box", the simulation's
+  own area (a structure drawn over the bodies). A strip figure shares the view's x axis, so it
+  can show a projection of the bodies (sweep and prune's intervals).
+  `image_figure(make_image)` draws an RGB image made once (a matplotlib chart) fitted to it.
 
 Times are the panel's simulation time in seconds, or functions of the frame's state (so an
 item can wait for an event the engine found); an item fades in and out over `fade` seconds.
@@ -77,11 +84,21 @@ class Note:
 
 
 @dataclass
+class Figure:
+    draw: Callable                 # draw(canvas, rect, view, state, unit): within rect (x, y, w, h)
+    start: float = 0.0
+    end: float = math.inf
+    place: str = "side"            # "side", "top", "bottom" or "box"
+
+
+@dataclass
 class Explainer:
-    """Timed items over a panel; `lines` per strip sets the strips' height."""
+    """Timed items over a panel; `lines` per strip sets the strips' height (a number for both,
+    or (top, bottom)); `side` is the share of the panel's width kept for side figures."""
     items: list
     fade: float = 0.25
-    lines: int = 2
+    lines: Union[int, tuple] = 2
+    side: float = 0.0
     clock: str = "simulation"    # items' times in "simulation" seconds, or "video" seconds (freezes)
     drawn: list = field(default_factory=list, repr=False)
     _latched: dict = field(default_factory=dict, repr=False)
@@ -89,7 +106,9 @@ class Explainer:
     def strips(self) -> tuple:
         """(top lines, bottom lines) the panel must reserve."""
         used = {item.strip for item in self.items if isinstance(item, Caption)}
-        return (self.lines if "top" in used else 0, self.lines if "bottom" in used else 0)
+        used |= {item.place for item in self.items if isinstance(item, Figure)}
+        top, bottom = self.lines if isinstance(self.lines, tuple) else (self.lines, self.lines)
+        return (top if "top" in used else 0, bottom if "bottom" in used else 0)
 
     def opacity(self, item, state) -> float:
         """1 while the item shows, 0 outside, fading in and out over `fade`. An item's start
@@ -133,10 +152,24 @@ class Explainer:
                 self._mark(canvas, view, state, world.radii, item, unit, alpha)
             elif isinstance(item, Note):
                 self._note(canvas, view, state, item.text, resolve(item.at, state), unit, alpha, item.gap, dot=True)
+            elif isinstance(item, Figure):
+                self._figure(canvas, view, state, item, strip_rects[item.place], unit, alpha)
+
+    def _figure(self, canvas, view, state, item, rect, unit, alpha):
+        """Draw on a copy, blend it in, and record the box of the pixels it changed (what the
+        tests hold to the figure's region)."""
+        layer = canvas.copy()
+        item.draw(layer, rect, view, state, unit)
+        changed = np.any(layer != canvas, axis=2)
+        rows, cols = np.flatnonzero(changed.any(axis=1)), np.flatnonzero(changed.any(axis=0))
+        if len(rows):
+            self.drawn.append(("figure", (int(cols[0]), int(rows[0]), int(cols[-1] - cols[0] + 1),
+                                          int(rows[-1] - rows[0] + 1)), rect))
+        blend(canvas, layer, alpha)
 
     def _caption(self, canvas, state, item, rect, unit, alpha):
         x, y, w, h = rect
-        line_height = h / self.lines
+        line_height = h / self.strips()[item.strip == "bottom"]
         text = item.text(state) if callable(item.text) else item.text
         if not text:
             return
@@ -233,7 +266,9 @@ def text_image(text: str, pixels: float) -> np.ndarray:
     from matplotlib.font_manager import FontProperties
     buffer = io.BytesIO()
     size = max(4.0, round(pixels * 2.0) / 2.0)   # half-pixel steps keep the cache small
-    mathtext.math_to_image(text, buffer, prop=FontProperties(size=size), dpi=72, format="png")
+    # mathtext crops the image at the last glyph's advance, cutting off a final letter's right edge
+    # at large sizes ("reflectec" at -qh); a trailing thin math space keeps it whole
+    mathtext.math_to_image(text + r"$\,$", buffer, prop=FontProperties(size=size), dpi=72, format="png")
     # black text on an opaque white ground: darkness is coverage
     image = cv2.imdecode(np.frombuffer(buffer.getvalue(), np.uint8), cv2.IMREAD_GRAYSCALE)
     return (255 - image).astype(np.float32) / 255.0
@@ -260,6 +295,23 @@ def paste(canvas, coverage: np.ndarray, left: int, top: int, color_rgb, alpha: f
         color = np.array(raster.bgr(color_rgb), np.float32)
         canvas[y0:y1, x0:x1] = (region + weight * (color - region) + 0.5).astype(np.uint8)
     return (left, top, w, h)
+
+
+def image_figure(make_image: Callable) -> Callable:
+    """A Figure's draw that shows the RGB uint8 image `make_image(state)` (made once, at the
+    first draw, e.g. a matplotlib chart of that frame), scaled to fit its region, centred."""
+    made = []
+
+    def draw(canvas, rect, view, state, unit):
+        if not made:
+            made.append(np.ascontiguousarray(make_image(state)[:, :, ::-1]))
+        image, (x, y, w, h) = made[0], rect
+        scale = min(w / image.shape[1], h / image.shape[0])
+        size = (max(1, int(image.shape[1] * scale)), max(1, int(image.shape[0] * scale)))
+        fitted = cv2.resize(image, size, interpolation=cv2.INTER_AREA)
+        left, top = x + (w - size[0]) // 2, y + (h - size[1]) // 2
+        canvas[top:top + size[1], left:left + size[0]] = fitted
+    return draw
 
 
 def blend(canvas, layer, alpha: float) -> None:

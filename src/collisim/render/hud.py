@@ -1,6 +1,8 @@
 """The heads-up display: what the viewer needs to read a frame (time, frame, method, counts)."""
 from __future__ import annotations
 
+import cv2
+
 from .. import palette
 from .raster import draw_text
 
@@ -31,5 +33,13 @@ def hud_lines(trajectory, frames: int, state, compact: bool = False) -> list:
 
 def draw_hud(canvas, rect, lines: list, scale: float) -> None:
     """One line in the strip below the panel's box."""
-    left, top, _, height = rect
-    draw_text(canvas, "   |   ".join(lines), (left + 10, top + height - 9), scale=scale, color_rgb=palette.DIM_TEXT)
+    left, top, width, height = rect
+    grow = max(1.0, scale / 0.55)   # offsets grow with the text (tall panels)
+    text, thickness = "   |   ".join(lines), max(1, int(round(grow)))
+    room = width - 20 * grow
+    # a long line shrinks to the panel's width rather than run off it (in steps: cv2 rounds a
+    # font's scale, so one proportional step can leave it as wide as before)
+    while scale > 0.2 and cv2.getTextSize(text, cv2.FONT_HERSHEY_SIMPLEX, scale, thickness)[0][0] > room:
+        scale *= 0.95
+    draw_text(canvas, text, (left + int(10 * grow), top + height - int(9 * grow)), scale=scale,
+              color_rgb=palette.DIM_TEXT, thickness=thickness)

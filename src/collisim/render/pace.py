@@ -7,9 +7,14 @@ only the player's clock changes: `Slow(start, end, factor)` plays the simulated 
 `seconds` of video. The video grows by what they add (`Pace.extra`).
 
     RenderSettings(pace=Pace(Slow(1.2, 1.6, 0.1), Freeze(1.4, 3.0)))
+
+`Steps(start, count, seconds, hold)` times a build shown one step at a time over a frozen frame
+(on the video's clock): `Pace(Freeze(at, steps.freeze_end - at))` holds the frame for it, and
+the items drawing the build ask `steps.at(state)` which step shows.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 
@@ -79,3 +84,28 @@ class Pace:
             if video_time >= video:
                 return sim + rate * (video_time - video)
         return video_time
+
+
+class Steps:
+    """A build shown on a frozen frame: `count` steps of `seconds` each from video second
+    `start`, then held `hold` seconds. `at(state)` is the step showing (-1 before the first, the
+    last one after), `built(state)` whether every step has shown, `live(state)` whether the
+    hold is over (the simulation plays on). `state.clock` is the panel's video clock."""
+
+    def __init__(self, start: float, count: int, seconds: float, hold: float = 1.5):
+        if count < 1 or not seconds > 0 or hold < 0:
+            raise ValueError(f"Steps needs count >= 1, seconds > 0 and hold >= 0, got {count}, {seconds}, {hold}")
+        self.start, self.count, self.seconds = start, count, seconds
+        self.end = start + count * seconds
+        self.freeze_end = self.end + hold
+
+    def at(self, state) -> int:
+        if state.clock < self.start:
+            return -1
+        return min(int(math.floor((state.clock - self.start) / self.seconds)), self.count - 1)
+
+    def built(self, state) -> bool:
+        return state.clock >= self.end
+
+    def live(self, state) -> bool:
+        return state.clock >= self.freeze_end

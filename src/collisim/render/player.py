@@ -15,6 +15,7 @@ from typing import Callable, Iterator
 import numpy as np
 
 from .. import palette
+from ..model.kinds import CIRCLE
 from ..model.scene import RenderSettings
 from ..model.trajectory import Events, approximate_summary
 from . import explain, raster
@@ -74,8 +75,9 @@ class PanelPlayer:
         self.source, self.settings, self.title, self.video_fps = source, source.settings, source.title, video_fps
         self.rect = rect
         left, top, width, height = rect
-        title_height = TITLE_HEIGHT if self.title else 0
-        hud_height = HUD_HEIGHT if self.settings.hud else 0
+        self.grow = max(1.0, height / explain.BASE_HEIGHT)   # title and HUD grow with tall panels (-qh, 4K)
+        title_height = int(round(TITLE_HEIGHT * self.grow)) if self.title else 0
+        hud_height = int(round(HUD_HEIGHT * self.grow)) if self.settings.hud else 0
         self.content = (left, top + title_height, width, height - title_height)
         self._blocks = source.blocks()
         self._block = next(self._blocks)
@@ -88,9 +90,13 @@ class PanelPlayer:
         bottom_h = bottom_lines * explain.line_height(self.unit)
         self.strips = {"top": (left, top + title_height, width, top_h),
                        "bottom": (left, top + height - hud_height - bottom_h, width, bottom_h)}
-        self.view = View(self.world.box, (left, top + title_height + top_h, width,
-                                          height - title_height - top_h - bottom_h - hud_height))
-        self.text_scale = max(0.38, min(0.55, width / 1280 * 0.8))
+        # a side column for figures (a chart beside the simulation), at the right
+        side = int(round(width * self.settings.explainer.side)) if self.settings.explainer else 0
+        middle = height - title_height - top_h - bottom_h - hud_height
+        self.strips["side"] = (left + width - side, top + title_height + top_h, side, middle)
+        self.view = View(self.world.box, (left, top + title_height + top_h, width - side, middle))
+        self.strips["box"] = self.view.rect   # figures drawn over the simulation itself
+        self.text_scale = max(0.38, min(0.55, width / 1280 * 0.8)) * self.grow
         self._first, self._sample, self._collisions, self.approximate_frames = 0, -1, 0, 0
         self._history = deque(maxlen=max(self.settings.trails, 1))
         self._recent = [self._block.events]
@@ -150,43 +156,51 @@ class PanelPlayer:
         world, settings, state = self.world, self.settings, self.state
         if self.title:
             left, top, width, _ = self.rect
-            raster.draw_text(canvas, self.title, (left + width // 2, top + 26), scale=self.text_scale * 1.25,
-                             thickness=2, anchor="center")
+            raster.draw_text(canvas, self.title, (left + width // 2, top + int(round(26 * self.grow))),
+                             scale=self.text_scale * 1.25, thickness=max(2, int(round(2 * self.grow))),
+                             anchor="center")
         if world.map is not None:
             if self._map_coverage is None:
                 self._map_coverage = raster.map_coverage(self.view, world.map, canvas.shape)
             raster.draw_map(canvas, self.view, world.map, self._map_coverage)
         raster.draw_box(canvas, self.view, world.box)
         raster.draw_segments(canvas, self.view, world.segments)
+        # trails, arrows and impact rings are drawn into the box's pixels only
+        inside, corner = raster.box_region(canvas, self.view, world.box)
+        line = max(2, int(round(2 * self.unit)))   # survives H.264 at -ql, and grows with the frame
         if settings.trails:
-            raster.draw_trails(canvas, self.view, np.array(self._history), world.colors)
-        raster.draw_circles(canvas, self.view.to_pixels(state.positions), self.view.length(world.radii), world.colors)
+            raster.draw_trails(inside, self.view, np.array(self._history), world.colors, line, corner)
+        circles = world.shapes == CIRCLE
+        raster.draw_circles(canvas, self.view.to_pixels(state.positions[circles]),
+                            self.view.length(world.radii[circles]), world.colors[circles])
+        if not circles.all():
+            outlines, bodies = raster.polygon_outlines(world, state.positions, state.angles)
+            raster.draw_polygons(canvas, [self.view.to_pixels(o) for o in outlines], world.colors[bodies])
         if settings.flash:
-            self._draw_flashes(canvas, state.time)
+            self._draw_flashes(inside, corner, state.time)
         if settings.arrows:
-            raster.draw_arrows(canvas, self.view, state.positions, state.velocities, settings.arrow_seconds)
+            raster.draw_arrows(inside, self.view, state.positions, state.velocities, settings.arrow_seconds,
+                               world.radii, thickness=line, offset=corner, box=world.box)
+        state.clock = self.clock   # overlays and explainers may follow the video's clock (freezes)
         if settings.overlay is not None:
             settings.overlay(canvas, self.view, state)
         if settings.explainer is not None:
-            state.clock = self.clock
             settings.explainer.draw(canvas, self.view, state, world, self.strips, self.unit)
         if settings.hud:
             lines = hud_lines(self._block, self.last_sample, state, compact=self.rect[2] < 800)
             draw_hud(canvas, self.content, lines, self.text_scale)
 
-    def _draw_flashes(self, canvas, now: float) -> None:
-        """A ring growing from each fresh impact's contact point, drawn inside the box only (a
-        wall's contact point is on the wall, and half a ring outside would cover the frame)."""
-        (x0, y0), (x1, y1) = np.rint(self.view.to_pixels([self.world.box[:2], self.world.box[2:]])).astype(int)
-        top, bottom, left, right = max(y1, 0), max(y0 + 1, 0), max(x0, 0), max(x1 + 1, 0)
-        inside = canvas[top:bottom, left:right]   # a view: drawing into it draws into the canvas
+    def _draw_flashes(self, inside, corner, now: float) -> None:
+        """A ring growing from each fresh impact's contact point, drawn into `inside`, the box's
+        pixels (box_region): a wall's contact point is on the wall, and half a ring outside
+        would cover the frame."""
         for events in self._recent:
             fresh = (events.time <= now + 1e-12) & (events.time > now - FLASH_SECONDS)
             if not fresh.any():
                 continue
             age = (now - events.time[fresh]) / FLASH_SECONDS
             radii = self.view.length(self.world.radii[events.i[fresh]]) * (0.3 + 0.5 * age)
-            centres = self.view.to_pixels(events.point[fresh]) - [left, top]
+            centres = self.view.to_pixels(events.point[fresh]) - corner
             raster.draw_rings(inside, centres, radii, palette.FLASH, max(1, int(round(self.unit))))
 
 

@@ -91,26 +91,66 @@ def draw_map(canvas, view, collision_map, coverage, color_rgb=None, shade: float
     cv2.polylines(canvas, polylines, True, bgr(_or(color_rgb, palette.BOX)), 1, cv2.LINE_AA, SHIFT)
 
 
-def draw_trails(canvas, view, history, colors_rgb) -> None:
-    """Motion trails: history (T, n, 2) world positions, oldest first. Drawn dimmed, one
-    polyline call per colour."""
+def box_region(canvas, view, box) -> tuple:
+    """The canvas pixels inside the box's outline, as a view (drawing into it draws into the
+    canvas, and nothing drawn there can leave the box), and its top-left corner in pixels."""
+    (x0, y0), (x1, y1) = np.rint(view.to_pixels([box[:2], box[2:]])).astype(int)
+    top, bottom, left, right = max(y1, 0), max(y0 + 1, 0), max(x0, 0), max(x1 + 1, 0)
+    return canvas[top:bottom, left:right], np.array([left, top], np.float64)
+
+
+TRAIL_SHARE = 0.75   # a trail's colour: this share of the body's, the rest the background's
+
+
+def draw_trails(canvas, view, history, colors_rgb, thickness: int = 2, offset=(0.0, 0.0)) -> None:
+    """Motion trails: history (T, n, 2) world positions, oldest first, one polyline call per
+    colour, `thickness` pixels wide (2 at least: a 1-pixel line of a dimmed colour does not
+    survive H.264's chroma subsampling). `offset`: the canvas's top-left corner in the view's
+    pixels (box_region)."""
     if len(history) < 2:
         return
-    paths = fixed(view.to_pixels(np.swapaxes(history, 0, 1))).astype(np.int32)  # (n, T, 2)
+    paths = fixed(view.to_pixels(np.swapaxes(history, 0, 1)) - offset).astype(np.int32)  # (n, T, 2)
     colors = np.asarray(colors_rgb)
     for color in np.unique(colors, axis=0):
         same = np.all(colors == color, axis=1)
-        dim = tuple(int(c * 0.45 + 0.55 * b) for c, b in zip(color, palette.BACKGROUND))
-        cv2.polylines(canvas, list(paths[same]), False, bgr(dim), 1, cv2.LINE_AA, SHIFT)
+        dim = tuple(int(c * TRAIL_SHARE + (1 - TRAIL_SHARE) * b) for c, b in zip(color, palette.BACKGROUND))
+        cv2.polylines(canvas, list(paths[same]), False, bgr(dim), thickness, cv2.LINE_AA, SHIFT)
 
 
-def draw_arrows(canvas, view, positions, velocities, seconds: float, color_rgb=None) -> None:
-    """Velocity arrows from each centre to where it would be `seconds` later."""
-    starts = view.to_pixels(positions)
-    ends = view.to_pixels(positions + velocities * seconds)
+def draw_arrows(canvas, view, positions, velocities, seconds: float, radii=None, color_rgb=None,
+                thickness: int = 2, offset=(0.0, 0.0), box=None) -> None:
+    """Velocity arrows from each body's rim (its centre if no radii), as long as the distance it
+    would cover in `seconds`: a slow body's arrow starts outside it instead of hiding inside.
+    With `box`, an arrow that would leave it is shortened to end at its wall (head and all).
+    `offset` as in draw_trails."""
+    velocities = np.asarray(velocities, np.float64)
+    speed = np.hypot(velocities[:, 0], velocities[:, 1])
+    moving = speed > 0
+    rims = np.zeros_like(velocities) if radii is None else \
+        velocities / np.where(moving, speed, 1.0)[:, None] * np.broadcast_to(radii, speed.shape)[:, None]
+    tails = np.asarray(positions)[moving] + rims[moving]
+    steps = velocities[moving] * seconds
+    if box is not None:
+        steps *= share_inside(tails, steps, box)[:, None]
+    starts = view.to_pixels(tails) - offset
+    ends = view.to_pixels(tails + steps) - offset
     color = bgr(_or(color_rgb, palette.TEXT))
-    for (x0, y0), (x1, y1) in zip(fixed(starts).tolist(), fixed(ends).tolist()):
-        cv2.arrowedLine(canvas, (x0, y0), (x1, y1), color, 2, cv2.LINE_AA, SHIFT, 0.2)
+    tip = 5.0 * thickness   # the head's size in pixels, whatever the arrow's length
+    for (x0, y0), (x1, y1), length in zip(fixed(starts).tolist(), fixed(ends).tolist(),
+                                          np.hypot(*(ends - starts).T).tolist()):
+        cv2.arrowedLine(canvas, (x0, y0), (x1, y1), color, thickness, cv2.LINE_AA, SHIFT,
+                        min(0.5, tip / max(length, 1.0)))
+
+
+def share_inside(starts, steps, box) -> np.ndarray:
+    """(k,) the largest share in [0, 1] of each step from its start that stays in the box."""
+    share = np.ones(len(starts))
+    for axis in range(2):
+        lo, hi, step = box[axis], box[axis + 2], steps[:, axis]
+        room = np.where(step > 0, hi - starts[:, axis], lo - starts[:, axis])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            share = np.minimum(share, np.where(step != 0, room / step, 1.0))
+    return np.clip(share, 0.0, 1.0)
 
 
 def draw_text(canvas, text: str, origin, scale: float = 0.55, color_rgb=None,
@@ -156,3 +196,16 @@ def polygon_outlines(world, positions, angles) -> tuple[list, np.ndarray]:
     """The world outlines (k, 2) of every polygon body at these poses, and their body indices."""
     bodies = np.flatnonzero(world.shapes != CIRCLE)
     return [world.world_vertices(i, positions[i], angles[i]) for i in bodies], bodies
+
+
+def draw_lines_px(canvas, starts, ends, color_rgb, thickness: int = 1) -> None:
+    """Pixel-space line segments from starts (k, 2) to ends (k, 2), at sub-pixel positions."""
+    color = bgr(color_rgb)
+    for (x0, y0), (x1, y1) in zip(fixed(starts).tolist(), fixed(ends).tolist()):
+        cv2.line(canvas, (x0, y0), (x1, y1), color, thickness, cv2.LINE_AA, SHIFT)
+
+
+def draw_rect_px(canvas, corner_a, corner_b, color_rgb, thickness: int = 1) -> None:
+    """A pixel-space rectangle between two corners; thickness -1 fills."""
+    (x0, y0), (x1, y1) = fixed([corner_a, corner_b]).tolist()
+    cv2.rectangle(canvas, (x0, y0), (x1, y1), bgr(color_rgb), thickness, cv2.LINE_AA, SHIFT)
