@@ -114,3 +114,15 @@ def test_a_stack_of_six_boxes_stands_for_30_seconds():
     assert (h - gaps).max() < 0.01 * h                     # no overlap above 1 % of size
     energy = total_energy(trajectory, world)
     assert energy.max() <= energy[0] * (1 + 1e-12) + 1e-12
+
+
+def test_a_trajectory_file_keeps_the_polygons(tmp_path):
+    world = World([(3, 3), (6, 3)], polygons=[regular(5, 0.6), None], radii=0.4, angles=[0.3, 0.0], friction=0.25,
+                  box=(0, 0, 10, 10), gravity=(0, -G))
+    trajectory = run(world, 0.5)
+    trajectory.save(tmp_path / "run.npz")
+    loaded = collisim.load_trajectory(tmp_path / "run.npz")
+    assert loaded.world.shapes.tolist() == world.shapes.tolist() and loaded.world.friction == 0.25
+    np.testing.assert_array_equal(loaded.world.body_vertices, world.body_vertices)
+    np.testing.assert_array_equal(loaded.world.positions, world.positions)
+    np.testing.assert_array_equal(loaded.angles, trajectory.angles)

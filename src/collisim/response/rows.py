@@ -33,12 +33,14 @@ SLOP = 0.005   # of the smaller radius: an overlap the solver tolerates between 
 MARGIN = 0.01  # of the radius: every body's smallest speculative margin (a resting pile that falls
                # ½·g·dt² between two steps must not lose its rows to rounding)
 
-Rows = namedtuple("Rows", ["i", "j", "wall", "feature", "partner", "normal", "point", "arm_i", "arm_j", "gap",
+Rows = namedtuple("Rows", ["i", "j", "wall", "feature", "partner", "normal", "point", "lever", "gap",
                            "mass", "mass_t", "hit", "impulse", "friction", "pseudo", "slop"])
 Rows.__doc__ = """Contact rows, each (k,) or (k, 2): i, j the bodies (j = -1 for a wall row, whose side is
 `wall`, else -1); feature the point's number in its manifold (0 or 1); partner the row of the
 manifold's other point, or -1; normal unit, from i toward j (into the wall); point where they
-meet; arm_i, arm_j the point from each centre; gap along the normal at the start of the step
+meet; lever (k, 4) the turning lever of the point about each centre, arm × n and arm × t for body i
+then body j (0 for a wall): a unit impulse along n turns body i by -lever[0]/I_i, and the point's
+velocity along n includes ω_i·lever[0]; gap along the normal at the start of the step
 (< 0: overlapping); mass, mass_t the effective masses along the normal and the tangent
 (-n_y, n_x); hit the impact impulse, impulse and friction the accumulated contact impulses along
 the normal and the tangent, pseudo the position impulse (set by the solver); slop the overlap
@@ -49,7 +51,7 @@ the row tolerates."""
 def new_rows(capacity):
     k = max(capacity, 1)
     ints, reals, pairs = (lambda: np.empty(k, np.int64)), (lambda: np.zeros(k)), (lambda: np.empty((k, 2)))
-    return Rows(ints(), ints(), ints(), ints(), ints(), pairs(), pairs(), pairs(), pairs(), reals(), reals(),
+    return Rows(ints(), ints(), ints(), ints(), ints(), pairs(), pairs(), np.zeros((k, 4)), reals(), reals(),
                 reals(), reals(), reals(), reals(), reals(), reals())
 
 
@@ -65,14 +67,28 @@ def margins(velocities, angular_velocities, accelerations, radii, dt, out):
 
 
 @njit(cache=True)
-def _effective_mass(masses, inertias, i, j, ax_i, ay_i, ax_j, ay_j, dx, dy):
-    """1 / (the velocity change along d at the point per unit impulse along d)."""
-    c = ax_i * dy - ay_i * dx
-    k = 1.0 / masses[i] + c * c / inertias[i]
+def _effective_masses(rows, r, masses, inertias):
+    """Row r's effective masses along the normal and the tangent: 1 / (the velocity change at the
+    point along that direction per unit impulse along it)."""
+    i, j, lever = rows.i[r], rows.j[r], rows.lever[r]
+    normal = 1.0 / masses[i] + lever[0] * lever[0] / inertias[i]
+    tangent = 1.0 / masses[i] + lever[1] * lever[1] / inertias[i]
     if j >= 0:
-        c = ax_j * dy - ay_j * dx
-        k += 1.0 / masses[j] + c * c / inertias[j]
-    return 1.0 / k
+        normal += 1.0 / masses[j] + lever[2] * lever[2] / inertias[j]
+        tangent += 1.0 / masses[j] + lever[3] * lever[3] / inertias[j]
+    rows.mass[r], rows.mass_t[r] = 1.0 / normal, 1.0 / tangent
+
+
+@njit(cache=True)
+def _set_levers(rows, r, ax_i, ay_i, ax_j, ay_j, masses, inertias):
+    """Row r's levers from the point's arms from each centre, and its effective masses."""
+    nx, ny = rows.normal[r, 0], rows.normal[r, 1]
+    lever = rows.lever[r]
+    lever[0], lever[1] = ax_i * ny - ay_i * nx, ax_i * nx + ay_i * ny
+    lever[2], lever[3] = 0.0, 0.0
+    if rows.j[r] >= 0:
+        lever[2], lever[3] = ax_j * ny - ay_j * nx, ax_j * nx + ay_j * ny
+    _effective_masses(rows, r, masses, inertias)
 
 
 @njit(cache=True)
@@ -81,13 +97,8 @@ def _add(rows, r, i, j, wall, feature, nx, ny, gap, px, py, positions, masses, i
     rows.i[r], rows.j[r], rows.wall[r], rows.feature[r], rows.partner[r] = i, j, wall, feature, -1
     rows.normal[r, 0], rows.normal[r, 1] = nx, ny
     rows.point[r, 0], rows.point[r, 1] = px, py
-    rows.arm_i[r, 0], rows.arm_i[r, 1] = px - positions[i, 0], py - positions[i, 1]
-    rows.arm_j[r, 0], rows.arm_j[r, 1] = 0.0, 0.0
-    if j >= 0:
-        rows.arm_j[r, 0], rows.arm_j[r, 1] = px - positions[j, 0], py - positions[j, 1]
-    ai, aj = rows.arm_i[r], rows.arm_j[r]
-    rows.mass[r] = _effective_mass(masses, inertias, i, j, ai[0], ai[1], aj[0], aj[1], nx, ny)
-    rows.mass_t[r] = _effective_mass(masses, inertias, i, j, ai[0], ai[1], aj[0], aj[1], -ny, nx)
+    ax_j, ay_j = (px - positions[j, 0], py - positions[j, 1]) if j >= 0 else (0.0, 0.0)
+    _set_levers(rows, r, px - positions[i, 0], py - positions[i, 1], ax_j, ay_j, masses, inertias)
     rows.gap[r], rows.slop[r] = gap, slop
     rows.hit[r] = rows.impulse[r] = rows.friction[r] = rows.pseudo[r] = 0.0
 
@@ -128,14 +139,13 @@ def _circles_at_contact(positions, velocities, radii, i, j, dt, m):
 
 @njit(cache=True)
 def _on_line_of_centres(rows, r, radius_i, radius_j, masses, inertias):
-    """Row r of two circles: arms along the normal, from each centre where they touch."""
-    nx, ny = rows.normal[r, 0], rows.normal[r, 1]
-    i, j = rows.i[r], rows.j[r]
-    rows.arm_i[r, 0], rows.arm_i[r, 1] = radius_i * nx, radius_i * ny
-    rows.arm_j[r, 0], rows.arm_j[r, 1] = -radius_j * nx, -radius_j * ny
-    ai, aj = rows.arm_i[r], rows.arm_j[r]
-    rows.mass[r] = _effective_mass(masses, inertias, i, j, ai[0], ai[1], aj[0], aj[1], nx, ny)
-    rows.mass_t[r] = _effective_mass(masses, inertias, i, j, ai[0], ai[1], aj[0], aj[1], -ny, nx)
+    """Row r of two circles (or a circle and a wall, radius_j 0): they touch on their line of
+    centres, so a push along it turns neither (lever exactly 0: the product of the rounded arm
+    with the normal would leave a residue that sets circles spinning), and friction turns each
+    by its radius."""
+    lever = rows.lever[r]
+    lever[0], lever[1], lever[2], lever[3] = 0.0, radius_i, 0.0, -radius_j
+    _effective_masses(rows, r, masses, inertias)
 
 
 @njit(cache=True)
@@ -182,5 +192,6 @@ def wall_rows(bodies, vertices, margin, box, rest_speed, in_pair, rows, start):
             reach = b.radii[i] + 0.5 * gap   # midway between the circle and the wall
             _add(rows, count, i, -1, wall, 0, nx, ny, gap, b.positions[i, 0] + reach * nx,
                  b.positions[i, 1] + reach * ny, b.positions, b.masses, b.inertias, 0.0)
+            _on_line_of_centres(rows, count, b.radii[i], 0.0, b.masses, b.inertias)
             count += 1
     return count

@@ -37,23 +37,20 @@ from numba import njit
 from .impulse import newton_impulse
 
 POSITION_RATE = 0.2   # the fraction of an overlap (beyond the slop) removed per step
+NORMAL, TANGENT = 0, 1
 
 
 @njit(cache=True)
-def _point_velocity(lin, ang, b, ax, ay):
-    """The velocity of the point at arm (ax, ay) from body b's centre."""
-    return lin[b, 0] - ang[b] * ay, lin[b, 1] + ang[b] * ax
-
-
-@njit(cache=True)
-def relative(lin, ang, rows, r, dx, dy):
-    """(v_j - v_i)·d at row r's point, for per-body vectors; a wall does not move."""
+def relative(lin, ang, rows, r, along):
+    """(v_j - v_i) at row r's point, along its normal (along = 0) or its tangent (1), for per-body
+    vectors; a wall does not move. A point at arm a moves at v + ω × a, whose part along n is
+    v·n + ω·(a × n): the row's lever."""
     i, j = rows.i[r], rows.j[r]
-    vx, vy = _point_velocity(lin, ang, i, rows.arm_i[r, 0], rows.arm_i[r, 1])
-    rel = -(vx * dx + vy * dy)
+    nx, ny = rows.normal[r, 0], rows.normal[r, 1]
+    dx, dy = (nx, ny) if along == 0 else (-ny, nx)
+    rel = -(lin[i, 0] * dx + lin[i, 1] * dy + ang[i] * rows.lever[r, along])
     if j >= 0:
-        vx, vy = _point_velocity(lin, ang, j, rows.arm_j[r, 0], rows.arm_j[r, 1])
-        rel += vx * dx + vy * dy
+        rel += lin[j, 0] * dx + lin[j, 1] * dy + ang[j] * rows.lever[r, 2 + along]
     return rel
 
 
@@ -73,14 +70,14 @@ def apply(lin, ang, masses, inertias, rows, r, normal_impulse, tangent_impulse):
     (i pushed back, j on)."""
     nx, ny = _normal(rows, r)
     px, py = normal_impulse * nx - tangent_impulse * ny, normal_impulse * ny + tangent_impulse * nx
-    i, j = rows.i[r], rows.j[r]
+    i, j, lever = rows.i[r], rows.j[r], rows.lever[r]
     lin[i, 0] -= px / masses[i]
     lin[i, 1] -= py / masses[i]
-    ang[i] -= (rows.arm_i[r, 0] * py - rows.arm_i[r, 1] * px) / inertias[i]
+    ang[i] -= (normal_impulse * lever[0] + tangent_impulse * lever[1]) / inertias[i]
     if j >= 0:
         lin[j, 0] += px / masses[j]
         lin[j, 1] += py / masses[j]
-        ang[j] += (rows.arm_j[r, 0] * py - rows.arm_j[r, 1] * px) / inertias[j]
+        ang[j] += (normal_impulse * lever[2] + tangent_impulse * lever[3]) / inertias[j]
 
 
 @njit(cache=True)
@@ -89,8 +86,7 @@ def _friction(rows, r, friction, limit, lin, ang, masses, inertias, accumulated)
     sliding, with accumulated[r] + it kept within ±limit. Returns the impulse applied."""
     if friction <= 0.0:
         return 0.0
-    tx, ty = _tangent(rows, r)
-    sliding = relative(lin, ang, rows, r, tx, ty)
+    sliding = relative(lin, ang, rows, r, TANGENT)
     total = min(max(accumulated[r] - rows.mass_t[r] * sliding, -limit), limit)
     impulse = total - accumulated[r]
     apply(lin, ang, masses, inertias, rows, r, 0.0, impulse)
@@ -102,7 +98,7 @@ def _friction(rows, r, friction, limit, lin, ang, masses, inertias, accumulated)
 def _meets(rows, r, lin, ang, accelerations, dt, rest_speed):
     """Row r's closing speed if it meets within the step faster than the rest speed, else 0."""
     nx, ny = _normal(rows, r)
-    closing = relative(lin, ang, rows, r, nx, ny)
+    closing = relative(lin, ang, rows, r, NORMAL)
     if closing >= -rest_speed:
         return 0.0
     pull = (accelerations[rows.j[r], 0] * nx + accelerations[rows.j[r], 1] * ny) if rows.j[r] >= 0 else 0.0
@@ -115,15 +111,10 @@ def _meets(rows, r, lin, ang, accelerations, dt, rest_speed):
 @njit(cache=True)
 def _coupling(rows, r, s, masses, inertias):
     """The normal velocity change at row r's point per unit normal impulse at row s's (same bodies)."""
-    i, j = rows.i[r], rows.j[r]
-    nx, ny = _normal(rows, r)
-    ci_r = rows.arm_i[r, 0] * ny - rows.arm_i[r, 1] * nx
-    ci_s = rows.arm_i[s, 0] * ny - rows.arm_i[s, 1] * nx
-    k = 1.0 / masses[i] + ci_r * ci_s / inertias[i]
+    i, j = rows.i[r], rows.j[r]   # the two points of a manifold share bodies and normal
+    k = 1.0 / masses[i] + rows.lever[r, 0] * rows.lever[s, 0] / inertias[i]
     if j >= 0:
-        cj_r = rows.arm_j[r, 0] * ny - rows.arm_j[r, 1] * nx
-        cj_s = rows.arm_j[s, 0] * ny - rows.arm_j[s, 1] * nx
-        k += 1.0 / masses[j] + cj_r * cj_s / inertias[j]
+        k += 1.0 / masses[j] + rows.lever[r, 2] * rows.lever[s, 2] / inertias[j]
     return k
 
 
@@ -218,8 +209,7 @@ def collide(rows, count, lin, ang, accelerations, masses, inertias, restitution,
 
 @njit(cache=True)
 def _mean_closing(rows, r, mean_lin, ang, push_lin, push_ang):
-    nx, ny = _normal(rows, r)
-    return relative(mean_lin, ang, rows, r, nx, ny) + relative(push_lin, push_ang, rows, r, nx, ny)
+    return relative(mean_lin, ang, rows, r, NORMAL) + relative(push_lin, push_ang, rows, r, NORMAL)
 
 
 @njit(cache=True)
@@ -237,8 +227,7 @@ def solve_velocities(rows, count, lin, ang, accelerations, masses, inertias, fri
     for _ in range(iterations):
         for r in range(count):
             if friction > 0.0:   # friction first, within what the normal impulse allowed last sweep
-                tx, ty = _tangent(rows, r)
-                sliding = relative(mean_lin, ang, rows, r, tx, ty) + relative(push_lin, push_ang, rows, r, tx, ty)
+                sliding = relative(mean_lin, ang, rows, r, TANGENT) + relative(push_lin, push_ang, rows, r, TANGENT)
                 limit = friction * rows.impulse[r]
                 spread = min(max(rows.friction[r] - 2.0 * rows.mass_t[r] * sliding, -limit), limit)
                 apply(push_lin, push_ang, masses, inertias, rows, r, 0.0, 0.5 * (spread - rows.friction[r]))
@@ -273,9 +262,8 @@ def solve_positions(rows, count, lin, ang, accelerations, masses, inertias, dt, 
             excess = -rows.gap[r] - rows.slop[r]
             if excess <= 0.0:
                 continue
-            nx, ny = _normal(rows, r)
-            closing = (relative(mean_lin, ang, rows, r, nx, ny) + relative(push_lin, push_ang, rows, r, nx, ny)
-                       + relative(shift_lin, shift_ang, rows, r, nx, ny))
+            closing = (relative(mean_lin, ang, rows, r, NORMAL) + relative(push_lin, push_ang, rows, r, NORMAL)
+                       + relative(shift_lin, shift_ang, rows, r, NORMAL))
             total = max(rows.pseudo[r] + rows.mass[r] * (POSITION_RATE * excess / dt - closing), 0.0)
             apply(shift_lin, shift_ang, masses, inertias, rows, r, total - rows.pseudo[r], 0.0)
             rows.pseudo[r] = total
@@ -291,8 +279,7 @@ def come_to_rest(rows, count, lin, ang, masses, inertias, friction, iterations):
     for _ in range(iterations):
         for r in range(count):
             if pressed[r]:
-                nx, ny = _normal(rows, r)
-                total = max(rows.impulse[r] - rows.mass[r] * relative(lin, ang, rows, r, nx, ny), 0.0)
+                total = max(rows.impulse[r] - rows.mass[r] * relative(lin, ang, rows, r, NORMAL), 0.0)
                 apply(lin, ang, masses, inertias, rows, r, total - rows.impulse[r], 0.0)
                 rows.impulse[r] = total
                 _friction(rows, r, friction, friction * total, lin, ang, masses, inertias, rows.friction)
