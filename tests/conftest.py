@@ -39,8 +39,9 @@ def statics_step(positions, velocities, radii, masses, box, segments=None, resti
     segments = np.zeros((0, 4)) if segments is None else np.asarray(segments, float).reshape(-1, 4)
     box = np.asarray(box, float)
     accelerations = np.zeros((n, 2)) if accelerations is None else np.asarray(accelerations, float)
+    masses, radii = np.asarray(masses, float), np.asarray(radii, float)
     bodies = Bodies(np.zeros(n, np.int8), positions, velocities, np.zeros(n), np.zeros(n), accelerations,
-                    np.asarray(radii, float), np.asarray(masses, float))
+                    radii, masses, 0.5 * masses * radii ** 2, np.zeros(n + 1, np.int64), np.zeros((0, 2)))
     from collisim.statics.map_field import no_map_field
     statics = Statics(box, segments, build_segment_index(segments, box), no_map_field(), float(restitution))
     counts = np.zeros(3, np.int64)

@@ -104,7 +104,7 @@ def test_contacts_of_a_state_have_normals_depths_and_points():
     np.testing.assert_array_equal(found["pairs"], [[0, 1]])
     np.testing.assert_allclose(found["normals"], [[1.0, 0.0]])
     np.testing.assert_allclose(found["depths"], [0.25])
-    np.testing.assert_allclose(found["points"], [[2.0, 1.0]])
+    np.testing.assert_allclose(found["points"], [[1.875, 1.0]])   # midway between the two surfaces
 
 
 def test_bodies_carry_angles_that_turn_at_their_angular_velocity():

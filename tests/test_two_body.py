@@ -18,21 +18,27 @@ def closed_form(x1, x2, v1, v2, m1, m2):
     return u1, u2
 
 
+def bodies_of(positions, velocities, masses, radii):
+    from collisim.engine.discrete import Bodies
+    return Bodies(np.zeros(2, np.int8), positions, velocities, np.zeros(2), np.zeros(2), np.zeros((2, 2)), radii,
+                  masses, 0.5 * masses * radii ** 2, np.zeros(3, np.int64), np.zeros((0, 2)))
+
+
 def rows_of(positions, velocities, masses, radii):
+    bodies = bodies_of(positions, velocities, masses, radii)
     margin = np.empty(2)
-    margins(velocities, np.zeros((2, 2)), radii, DT, margin)
-    rows = new_rows(1)
-    count = pair_rows(np.zeros(2, np.int8), positions, velocities, masses, radii, margin, DT, np.array([[0, 1]]),
-                      rows)
-    return rows, count
+    margins(velocities, np.zeros(2), np.zeros((2, 2)), radii, DT, margin)
+    rows = new_rows(2)
+    count = pair_rows(bodies, np.zeros((0, 2)), margin, DT, np.array([[0, 1]]), rows, np.zeros((1, 2)))
+    return rows, count, bodies
 
 
 def respond(x1, x2, v1, v2, m1, m2, r1=1.0, r2=1.0, e=1.0):
     """The impact phase on one pair: (velocities, hits, impulse, positions)."""
     positions, velocities = np.array([x1, x2], float), np.array([v1, v2], float)
     masses, radii = np.array([m1, m2], float), np.array([r1, r2], float)
-    rows, count = rows_of(positions, velocities, masses, radii)
-    collide(rows, count, velocities, np.zeros((2, 2)), masses, e, 0.0, DT, 10)
+    rows, count, b = rows_of(positions, velocities, masses, radii)
+    collide(rows, count, velocities, b.angular_velocities, b.accelerations, masses, b.inertias, e, 0.0, 0.0, DT, 10)
     return velocities, int((rows.hit[:count] > 0).sum()), rows.hit[0], positions
 
 
@@ -40,11 +46,12 @@ def correct(x1, x2, m1, m2):
     """The position phase on one resting, overlapping pair of unit circles: the positions after."""
     positions, velocities = np.array([x1, x2], float), np.zeros((2, 2))
     masses, radii = np.array([m1, m2], float), np.ones(2)
-    rows, count = rows_of(positions, velocities, masses, radii)
-    push, shift = np.zeros((2, 2)), np.zeros((2, 2))
-    free = solve_velocities(rows, count, velocities, np.zeros((2, 2)), masses, DT, 10, push)
-    solve_positions(rows, count, free, masses, DT, 10, push, shift)
-    assert not push.any()                       # nothing approaches: no contact impulse
+    rows, count, b = rows_of(positions, velocities, masses, radii)
+    push, shift, turn, shift_turn = np.zeros((2, 2)), np.zeros((2, 2)), np.zeros(2), np.zeros(2)
+    args = velocities, b.angular_velocities, b.accelerations, masses, b.inertias
+    solve_velocities(rows, count, *args, 0.0, DT, 10, push, turn)
+    solve_positions(rows, count, *args, DT, 10, push, turn, shift, shift_turn)
+    assert not push.any() and not turn.any() and not shift_turn.any()   # no impulse, no turn
     return positions + (push + shift) * DT
 
 

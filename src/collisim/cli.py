@@ -122,7 +122,11 @@ def add_bench_parser(commands) -> None:
                                          "against pymunk's segment_query_first, in the same run")
     rays.add_argument("--rays", type=int, default=100_000, help="rays cast per measurement")
     rays.add_argument("--repeats", type=int, default=3)
-    for parser in (broad, render, accuracy, segments, maps, rays):
+    polygons = kinds.add_parser("polygons", help="the polygons scene: collisim's discrete step against plain "
+                                                 "pymunk's on the same world, per phase, as ratios")
+    polygons.add_argument("--seconds", type=float, default=8.0, help="simulated seconds per repeat")
+    polygons.add_argument("--repeats", type=int, default=3)
+    for parser in (broad, render, accuracy, segments, maps, rays, polygons):
         parser.add_argument("--out", type=Path, default=Path("renders/bench"), help="folder for CSV and PNG")
         parser.add_argument("--no-progress", action="store_true")
 
@@ -275,6 +279,11 @@ def cmd_bench(args) -> int:
         if args.rays < 1 or args.repeats < 1:
             raise ValueError("rays and repeats must be >= 1")
         print(format_rays(bench_rays(count=args.rays, repeats=args.repeats)))
+    elif args.kind == "polygons":
+        from .analysis.bench.polygons import format_rows, load_world, run
+        world, fps = load_world()
+        rows, profile = run(args.seconds, args.repeats, world, fps)
+        print(format_rows(rows, world.n, profile))
     elif args.kind == "render":
         from .analysis.bench.render import run
         _check_positive_seconds(args.seconds)

@@ -19,6 +19,11 @@ Each row (a dict of plain numbers, ready for JSON):
     radii; None if ccd cannot run the world), horizon, warnings, and error (None, or why the
     method could not run: that row's measurements are then None).
 
+A world with polygons (scenes/polygons.py) runs under discrete and pymunk; ccd refuses it, and
+its row says so ("ccd: could not run (...)"), with position_error None for every row. max_overlap
+and missed_pairs measure circles (centre distances against radii), so they are None ("n/a") for
+such a world; energy counts rotation (World.inertias), which both engines record.
+
 Where pymunk and collisim differ, and which one is right
 -------------------------------------------------------
 Measured on particles_250 and on 12 seeds of the same gas (10 s each), single_bounce,
@@ -68,6 +73,7 @@ import numpy as np
 
 from . import metrics
 from ..engine import simulate
+from ..model.kinds import CIRCLE
 
 DEFAULT_METHODS = ("discrete x1", "discrete x8", "ccd", "pymunk x1")
 _LABEL = re.compile(r"^(discrete|pymunk)(?:\s*x\s*(\d+))?$|^(ccd)$")
@@ -208,14 +214,15 @@ def measure(world, traj, reference, horizon: float, cost=None) -> dict:
     `reference` is the ccd trajectory for position_error (None leaves it None), `horizon` when
     to compare positions, `cost` is passed through as the row's wall seconds per simulated second."""
     outside_end, outside_ever = metrics.outside(traj, world)
+    circles = bool(np.all(world.shapes == CIRCLE))   # overlaps and pass-throughs measure circles
     pushed = traj.wall_collisions.sum() + traj.segment_collisions.sum() > 0 or np.any(world.accelerations != 0)
     return dict(
         cost=cost,
         energy_drift=metrics.energy_drift(traj, world),
         momentum_drift=None if pushed else metrics.momentum_drift(traj),
-        max_overlap=metrics.max_overlap(traj),
+        max_overlap=metrics.max_overlap(traj) if circles else None,
         outside_end=outside_end, outside_ever=outside_ever,
-        missed_pairs=int(metrics.missed_collisions(traj).sum()),
+        missed_pairs=int(metrics.missed_collisions(traj).sum()) if circles else None,
         missed_segments=int(metrics.missed_segment_crossings(traj, world).sum()),
         collisions=int(traj.collisions.sum()), pair_collisions=int(traj.pair_collisions.sum()),
         wall_collisions=int(traj.wall_collisions.sum()), segment_collisions=int(traj.segment_collisions.sum()),
@@ -231,9 +238,9 @@ _COLUMNS = (  # header, unit, how to show a row
     ("wall time", "s/sim s", lambda r: _number(r["cost"], "{:.3g}")),
     ("energy drift", "rel", lambda r: _number(r["energy_drift"], "{:.1e}")),
     ("momentum drift", "rel", lambda r: _number(r["momentum_drift"], "{:.1e}", none="n/a")),
-    ("max overlap", "radii", lambda r: _number(r["max_overlap"], "{:.3g}")),
+    ("max overlap", "radii", lambda r: _number(r["max_overlap"], "{:.3g}", none=_missing(r))),
     ("outside", "end/ever", lambda r: _pair(r["outside_end"], r["outside_ever"])),
-    ("missed", "pairs/segment", lambda r: _pair(r["missed_pairs"], r["missed_segments"])),
+    ("missed", "pairs/segment", lambda r: _pair(r["missed_pairs"], r["missed_segments"], none=_missing(r))),
     ("collisions", "pair+wall+seg", lambda r: _number(r["collisions"], "{:d}")),
     ("wall pressure", "F/L", lambda r: _number(r["wall_pressure"], "{:.4g}")),
     ("vs ccd", "radii", lambda r: _number(r["position_error"], "{:.2g}")),
@@ -244,8 +251,15 @@ def _number(value, pattern: str, none: str = "-") -> str:
     return none if value is None else pattern.format(value)
 
 
-def _pair(a, b) -> str:
-    return "-" if a is None else f"{a}/{b}"
+def _pair(a, b, none: str = "-") -> str:
+    if a is None and b is None:
+        return "-"
+    return f"{none if a is None else a}/{none if b is None else b}"
+
+
+def _missing(row) -> str:
+    """How a measurement the row lacks shows: "-" if the method could not run, else "n/a"."""
+    return "-" if row.get("error") else "n/a"
 
 
 def format_table(rows: list) -> str:

@@ -30,7 +30,8 @@ from numba import njit
 
 from ..broadphase.step import AUTO, candidate_pairs, choose, step_state
 from ..geometry.box import centre_range
-from ..model.kinds import MAP, PAIR, SEGMENT, WALL
+from ..geometry.polygon import world_vertices
+from ..model.kinds import CIRCLE, MAP, PAIR, SEGMENT, WALL
 from ..narrowphase.statics import segment_contacts
 from ..response.map import bounce_off_map, push_out
 from ..response.rows import margins, new_rows, pair_rows, wall_rows
@@ -47,12 +48,12 @@ INTEGRATE, BROAD, NARROW, RESPONSE, STATICS, SETTLE, RECORD, TOTAL = range(8)
 ITERATIONS = 20   # sweeps of the contact solver per step (response/solver.py)
 
 Bodies = namedtuple("Bodies", ["shapes", "positions", "velocities", "angles", "angular_velocities",
-                               "accelerations", "radii", "masses"])
-Statics = namedtuple("Statics", ["box", "segments", "index", "map", "restitution", "rest_speed", "iterations"],
-                     defaults=(0.0, ITERATIONS))
+                               "accelerations", "radii", "masses", "inertias", "vertex_start", "body_vertices"])
+Statics = namedtuple("Statics", ["box", "segments", "index", "map", "restitution", "rest_speed", "iterations",
+                                 "friction"], defaults=(0.0, ITERATIONS, 0.0))
 Statics.__doc__ = """What bodies meet besides each other: box (4,), segments (m, 4) and their index, the
 collision map's field; and how contacts respond: restitution e, the rest speed below which a
-contact rests instead of bouncing, and the solver's sweeps per step."""
+contact rests instead of bouncing, the solver's sweeps per step, and the friction coefficient."""
 Frames = namedtuple("Frames", ["positions", "velocities", "angles", "angular_velocities", "collisions",
                                "candidates", "approximate"])
 Frames.__doc__ = """A block of frames: positions, velocities (f, n, 2); angles, angular_velocities (f, n);
@@ -84,9 +85,10 @@ def bounding_boxes(world, positions, velocities, fps: float, substeps: int = 1):
     what the engine tests."""
     margin, lo, hi = np.empty(world.n), np.empty((world.n, 2)), np.empty((world.n, 2))
     velocities = np.ascontiguousarray(velocities, np.float64)
-    margins(velocities, world.accelerations, world.radii, 1.0 / fps / substeps, margin)
+    margins(velocities, world.angular_velocities, world.accelerations, world.radii, 1.0 / fps / substeps, margin)
     bodies = Bodies(world.shapes, np.ascontiguousarray(positions, np.float64), velocities, world.angles,
-                    world.angular_velocities, world.accelerations, world.radii, world.masses)
+                    world.angular_velocities, world.accelerations, world.radii, world.masses, world.inertias,
+                    world.vertex_start, world.body_vertices)
     _bounds(bodies, margin, lo, hi)
     return lo, hi
 
@@ -99,26 +101,36 @@ def sort_pairs(pairs, n):
 
 
 @njit(cache=True)
-def _contact_phases(bodies, statics, broad, dt, margin, lo, hi, phase_cycles, t):
-    """broad and narrow: the step's contact rows, from the state at its start. Returns
-    (rows, count, candidates, t)."""
+def _contact_phases(bodies, statics, broad, dt, margin, lo, hi, vertices, moved, phase_cycles, t):
+    """broad and narrow: the step's contact rows, from the state at its start. vertices (V, 2)
+    receives the polygons' world vertices. Returns (rows, count, candidates, t)."""
     b = bodies
     n = b.positions.shape[0]
-    margins(b.velocities, b.accelerations, b.radii, dt, margin)
+    margins(b.velocities, b.angular_velocities, b.accelerations, b.radii, dt, margin)
+    place_polygons(b, vertices)
     pairs = np.empty((0, 2), np.int64)
     if n >= 2:   # a lone body runs no pair phase
         _bounds(b, margin, lo, hi)
         pairs = sort_pairs(candidate_pairs(broad, lo, hi), n)
         t = _lap(phase_cycles, BROAD, t)
-    rows = new_rows(pairs.shape[0] + 4 * n)
-    count = pair_rows(b.shapes, b.positions, b.velocities, b.masses, b.radii, margin, dt, pairs, rows)
+    rows = new_rows(2 * pairs.shape[0] + 8 * n)   # up to two points a pair, and a body and wall
+    count = pair_rows(b, vertices, margin, dt, pairs, rows, moved)
     in_pair = np.zeros(n, np.bool_)
     for r in range(count):
         in_pair[rows.i[r]] = in_pair[rows.j[r]] = True
-    count = wall_rows(b.positions, b.velocities, b.masses, b.radii, margin, statics.box, statics.rest_speed, in_pair,
-                      rows, count)
+    count = wall_rows(b, vertices, margin, statics.box, statics.rest_speed, in_pair, rows, count)
     t = _lap(phase_cycles, NARROW, t)
     return rows, count, pairs.shape[0], t
+
+
+@njit(cache=True)
+def place_polygons(bodies, vertices):
+    """Every polygon's vertices in the world, into vertices (V, 2)."""
+    b = bodies
+    for i in range(b.positions.shape[0]):
+        s, e = b.vertex_start[i], b.vertex_start[i + 1]
+        if e > s:
+            world_vertices(b.body_vertices[s:e], b.positions[i, 0], b.positions[i, 1], b.angles[i], vertices[s:e])
 
 
 @njit(cache=True)
@@ -167,6 +179,8 @@ def statics_phase(bodies, statics, scratch, dt, log, now, frame_collisions):
         log = map_phase(b, s, scratch[2], dt, log, now, frame_collisions)
     log = with_room(log, 4 * b.positions.shape[0])  # at most one event per body and wall
     for i in range(b.positions.shape[0]):
+        if b.shapes[i] != CIRCLE:
+            continue   # a polygon meets the walls through the contact solver only
         for axis in range(2):
             low, high = centre_range(s.box, axis, b.radii[i])
             if low <= b.positions[i, axis] <= high:
@@ -217,11 +231,13 @@ def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, memor
     b, s = bodies, statics
     n = b.positions.shape[0]
     lo, hi, margin = np.empty((n, 2)), np.empty((n, 2)), np.empty(n)
-    push, shift = np.zeros((n, 2)), np.zeros((n, 2))
+    push, shift, push_turn, shift_turn = np.zeros((n, 2)), np.zeros((n, 2)), np.zeros(n), np.zeros(n)
+    vertices, moved = np.empty_like(b.body_vertices), np.empty((_largest_polygon(b.vertex_start), 2))
     scratch = statics_scratch(n, s.segments.shape[0])
     # each step's contacts are found from the state that ends the step before (so a frame's
     # candidates are those of the state it records); the first, from the state given
-    rows, count, candidates, t = _contact_phases(b, s, broad, dt, margin, lo, hi, phase_cycles, cycles())
+    rows, count, candidates, t = _contact_phases(b, s, broad, dt, margin, lo, hi, vertices, moved, phase_cycles,
+                                                 cycles())
     for frame in range(out.positions.shape[0]):
         frame_collisions = out.collisions[frame]
         for _ in range(substeps):
@@ -229,16 +245,20 @@ def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, memor
             now = step_count * dt
             if has_map(s.map):
                 scratch[2][:] = b.positions
-            collide(rows, count, b.velocities, b.accelerations, b.masses, s.restitution, s.rest_speed, dt, s.iterations)
+            v, w, m, inertia = b.velocities, b.angular_velocities, b.masses, b.inertias
+            collide(rows, count, v, w, b.accelerations, m, inertia, s.restitution, s.friction, s.rest_speed, dt,
+                    s.iterations)
             recall(rows, count, memory, n)
-            free = solve_velocities(rows, count, b.velocities, b.accelerations, b.masses, dt, s.iterations, push)
-            solve_positions(rows, count, free, b.masses, dt, s.iterations, push, shift)
+            solve_velocities(rows, count, v, w, b.accelerations, m, inertia, s.friction, dt, s.iterations, push,
+                             push_turn)
+            solve_positions(rows, count, v, w, b.accelerations, m, inertia, dt, s.iterations, push, push_turn, shift,
+                            shift_turn)
             t = _lap(phase_cycles, RESPONSE, t)
             integrate(b.positions, b.velocities, b.accelerations, b.angles, b.angular_velocities, dt)
             if count > 0:
-                add_contact_motion(b.positions, b.velocities, push, shift, dt)
+                add_contact_motion(b, push, push_turn, shift, shift_turn, dt)
             t = _lap(phase_cycles, INTEGRATE, t)
-            come_to_rest(rows, count, b.velocities, b.masses, s.iterations)
+            come_to_rest(rows, count, v, w, m, inertia, s.friction, s.iterations)
             log = _log_contacts(rows, count, log, now, frame_collisions)
             memory = remember(rows, count, n)
             _mark_held(rows, count, scratch[3])
@@ -249,7 +269,8 @@ def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, memor
                 for i in range(n):
                     push_out(s.map, b.positions, b.radii[i], i)
                 t = _lap(phase_cycles, SETTLE, t)
-            rows, count, candidates, t = _contact_phases(b, s, broad, dt, margin, lo, hi, phase_cycles, t)
+            rows, count, candidates, t = _contact_phases(b, s, broad, dt, margin, lo, hi, vertices, moved,
+                                                         phase_cycles, t)
         out.candidates[frame] = candidates
         out.positions[frame] = b.positions
         out.velocities[frame] = b.velocities
@@ -262,14 +283,25 @@ def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, memor
 
 
 @njit(cache=True)
-def add_contact_motion(positions, velocities, push, shift, dt):
+def add_contact_motion(bodies, push, push_turn, shift, shift_turn, dt):
     """The solver's share of the step (response/solver.py): the contact impulses, spread over the
-    step, move a body by push·dt and change its velocity by 2·push; the position correction
-    moves it by shift·dt. In place, (n, 2) each."""
-    for i in range(positions.shape[0]):
+    step, move a body by push·dt and change its velocity by 2·push (and turn it likewise); the
+    position correction moves it by shift·dt. In place; push, shift (n, 2), the turns (n,)."""
+    b = bodies
+    for i in range(b.positions.shape[0]):
         for axis in range(2):
-            positions[i, axis] += (push[i, axis] + shift[i, axis]) * dt
-            velocities[i, axis] += 2.0 * push[i, axis]
+            b.positions[i, axis] += (push[i, axis] + shift[i, axis]) * dt
+            b.velocities[i, axis] += 2.0 * push[i, axis]
+        b.angles[i] += (push_turn[i] + shift_turn[i]) * dt
+        b.angular_velocities[i] += 2.0 * push_turn[i]
+
+
+@njit(cache=True)
+def _largest_polygon(vertex_start):
+    most = 1
+    for i in range(vertex_start.shape[0] - 1):
+        most = max(most, vertex_start[i + 1] - vertex_start[i])
+    return most
 
 
 @njit(cache=True)
@@ -306,14 +338,16 @@ class DiscreteStepper:
                  profile: Profile | None = None):
         w = world
         self.bodies = Bodies(w.shapes, w.positions.copy(), w.velocities.copy(), w.angles.copy(),
-                             w.angular_velocities.copy(), w.accelerations, w.radii, w.masses)
+                             w.angular_velocities.copy(), w.accelerations, w.radii, w.masses, w.inertias,
+                             w.vertex_start, w.body_vertices)
         index = build_segment_index(w.segments, w.box)
         field = no_map_field() if w.map is None else w.map.field
         self.dt = 1.0 / fps / substeps
         # below this approach speed a contact rests instead of bouncing: twice what the
         # acceleration adds in a step (0 without one, so a gas bounces at every speed)
         pull = float(np.max(np.hypot(w.accelerations[:, 0], w.accelerations[:, 1]))) if w.n else 0.0
-        self.statics = Statics(w.box, w.segments, index, field, float(w.restitution), 2.0 * pull * self.dt)
+        self.statics = Statics(w.box, w.segments, index, field, float(w.restitution), 2.0 * pull * self.dt,
+                               ITERATIONS, float(w.friction))
         self.memory = no_memory()
         self.broad = step_state(broadphase, world)
         chosen = f"{choose(world)} (auto)" if broadphase == AUTO else broadphase
@@ -326,7 +360,8 @@ class DiscreteStepper:
     def run(self, count: int):
         """Advance `count` frames: (Frames, Events)."""
         b = self.bodies
-        turning = bool(np.any(b.angular_velocities != 0.0))  # nothing exerts torque yet: ω stays as given
+        # contacts turn polygons, and circles with friction; otherwise ω stays as given
+        turning = bool(np.any(b.angular_velocities != 0.0) or np.any(b.shapes != CIRCLE) or self.statics.friction > 0)
         out = new_frames(count, len(b.positions), turning)
         log, self.memory = self.profile.timed(lambda phase_cycles: run_frames(
             b, self.statics, self.broad, self.dt, self.substeps, self.step_count, out, new_log(64), self.memory,

@@ -4,7 +4,7 @@ Shape kinds index the narrow phase's table of contact functions (narrowphase/reg
 Event kinds label every collision in a Trajectory, whichever method found it; the event-driven
 method numbers its bookkeeping events after them (engine/ccd/eventqueue.py).
 """
-CIRCLE = 0
+CIRCLE, POLYGON = 0, 1
 
 WALL, PAIR, SEGMENT = 0, 1, 2
 # A collision with the collision map (statics/collision_map.py). Its `j` is the map segment

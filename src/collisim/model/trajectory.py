@@ -144,9 +144,11 @@ class Trajectory:
         arrays = {f"frame_{name}": getattr(self, name) for name in _FRAME_FIELDS}
         arrays.update({f"event_{name}": getattr(self.events, name) for name in _EVENT_FIELDS})
         arrays.update({f"world_{name}": getattr(self.world, name) for name in _WORLD_FIELDS})
+        arrays.update(world_vertex_start=self.world.vertex_start, world_body_vertices=self.world.body_vertices)
         if self.world.map is not None:
             arrays.update({f"map_{name}": value for name, value in self.world.map.to_arrays().items()})
-        meta = dict(format=FILE_FORMAT, fps=self.fps, method=self.method, broadphase=self.broadphase,
+        meta = dict(format=FILE_FORMAT, friction=self.world.friction, fps=self.fps, method=self.method,
+                    broadphase=self.broadphase,
                     substeps=self.substeps, restitution=self.world.restitution, profile=self.profile,
                     warnings=[str(w) for w in self.warnings], storage=self.storage)
         arrays["meta"] = np.array(json.dumps(meta))
@@ -185,7 +187,8 @@ def load_trajectory(path) -> Trajectory:
                          f"this collisim reads version {FILE_FORMAT}")
     try:
         world = World(**{name: arrays[f"world_{name}"] for name in _WORLD_FIELDS}, restitution=meta["restitution"],
-                      map=_embedded_map(arrays, path))
+                      map=_embedded_map(arrays, path), polygons=_polygons(arrays),
+                      friction=meta.get("friction", 0.0))
         events = Events(*(arrays[f"event_{name}"] for name in _EVENT_FIELDS))
         frames = {name: arrays[f"frame_{name}"] for name in _FRAME_FIELDS}
         return Trajectory(**frames, world=world, fps=float(meta["fps"]), events=events, method=meta["method"],
@@ -202,3 +205,12 @@ def _embedded_map(arrays: dict, path):
         return None
     from ..statics.collision_map import CollisionMap
     return CollisionMap.from_arrays(fields, path)
+
+
+def _polygons(arrays) -> list | None:
+    """The World's polygons argument from a file's vertex table (None for files of circles)."""
+    if "world_vertex_start" not in arrays:
+        return None
+    start, vertices = arrays["world_vertex_start"], arrays["world_body_vertices"]
+    polygons = [vertices[start[i]:start[i + 1]] if start[i + 1] > start[i] else None for i in range(len(start) - 1)]
+    return polygons if any(p is not None for p in polygons) else None

@@ -11,7 +11,8 @@ import numpy as np
 
 from ..palette import default_colors
 from . import validate
-from .kinds import CIRCLE
+from .bodyshapes import polygons_of, shape_table
+from .kinds import POLYGON
 
 
 class World:
@@ -23,10 +24,16 @@ class World:
     angles: (n,)                 orientation (a circle's shows only in how it is drawn)
     angular_velocities: (n,)
     accelerations: (n, 2)        constant; by default every body gets `gravity`
-    radii: (n,)                  > 0 (a scalar is broadcast): the circle's radius
+    radii: (n,)                  > 0 (a scalar is broadcast): the circle's radius; for a polygon,
+                                 its bounding circle's (set from the polygon)
     masses: (n,)                 > 0; by default proportional to area (density 1)
-    inertias: (n,)               moment of inertia about the centre, from the shape (½·m·r²)
-    shapes: (n,) int8            shape kind of each body (kinds.CIRCLE)
+    inertias: (n,)               moment of inertia about the centre of mass, from the shape
+                                 (½·m·r² for a disc)
+    shapes: (n,) int8            shape kind of each body (kinds.CIRCLE, kinds.POLYGON)
+    polygons: None, or n entries: None (a circle) or the polygon's vertices (k, 2) in the body
+                                 frame; kept about the centroid (model/bodyshapes.py)
+    vertex_start (n + 1,), body_vertices (V, 2): every polygon's vertices about its centroid
+    friction: μ >= 0 for every contact (Coulomb; 0 = frictionless)
     colors: (n, 3) uint8         RGB; by default one colour per size class
     Statics:
     box: (xmin, ymin, xmax, ymax)  the walls
@@ -38,9 +45,10 @@ class World:
     def __init__(self, positions, velocities=None, radii=1.0, masses=None, *,
                  box=(0.0, 0.0, 10.0, 10.0), gravity=(0.0, 0.0), accelerations=None,
                  colors=None, restitution: float = 1.0, segments=None, angles=0.0,
-                 angular_velocities=0.0, map=None):
+                 angular_velocities=0.0, map=None, polygons=None, friction: float = 0.0):
         self.positions = validate.positions_array(positions)
         n = len(self.positions)
+        table = shape_table(polygons, n)
         self.velocities = validate.per_body("velocities", 0.0 if velocities is None else velocities, n, 2)
         self.angles = validate.per_body("angles", angles, n)
         self.angular_velocities = validate.per_body("angular_velocities", angular_velocities, n)
@@ -48,11 +56,19 @@ class World:
         self.accelerations = validate.per_body("accelerations", self.gravity if accelerations is None
                                                else accelerations, n, 2)
         self.radii = validate.per_body("radii", radii, n)
-        self.masses = validate.per_body("masses", np.pi * self.radii ** 2 if masses is None else masses, n)
+        polygon = table.shapes == POLYGON
+        self.radii = np.where(polygon, table.radii, self.radii)
+        self.positions = self.positions + _rotated(table.offsets, self.angles)   # to the centroids
+        areas = np.where(polygon, table.areas, np.pi * self.radii ** 2)
+        self.masses = validate.per_body("masses", areas if masses is None else masses, n)
         if masses is None and np.any((self.masses == 0) & (self.radii > 0)):
             i = int(np.flatnonzero((self.masses == 0) & (self.radii > 0))[0])
             raise ValueError(f"radius {self.radii[i]:g} of body {i} is too small: its area is 0 in floating point")
-        self.shapes = np.full(n, CIRCLE, np.int8)
+        self.shapes, self.vertex_start, self.body_vertices = table.shapes, table.start, table.vertices
+        self._inertia_per_mass = np.where(polygon, table.second_moments / np.where(polygon, table.areas, 1.0),
+                                          0.5 * self.radii ** 2)
+        self.notes = list(table.notes)
+        self.friction = validate.number("friction", friction, low=0.0)
         self.box = validate.per_body("box", box, 4)
         self.segments = validate.segments_array(segments)
         self.map = validate.collision_map(map)
@@ -68,8 +84,36 @@ class World:
 
     @property
     def inertias(self) -> np.ndarray:
-        """(n,) moments of inertia about the centres: ½·m·r² for a solid disc."""
-        return 0.5 * self.masses * self.radii ** 2
+        """(n,) moments of inertia about the centres of mass: ½·m·r² for a solid disc, the
+        polygon's own for a polygon (uniform density)."""
+        return self.masses * self._inertia_per_mass
+
+    def world_vertices(self, i: int, position=None, angle=None) -> np.ndarray:
+        """Polygon body i's vertices (k, 2) in the world (at its own pose unless given)."""
+        x, y = self.positions[i] if position is None else position
+        turn = self.angles[i] if angle is None else angle
+        local = self.body_vertices[self.vertex_start[i]:self.vertex_start[i + 1]]
+        c, s = np.cos(turn), np.sin(turn)
+        return np.column_stack([x + c * local[:, 0] - s * local[:, 1], y + s * local[:, 0] + c * local[:, 1]])
+
+    def extents(self) -> tuple[np.ndarray, np.ndarray]:
+        """Each body's axis-aligned bounds (n, 2) lo, hi at its pose: centre ± radius for a
+        circle, its vertices' for a polygon."""
+        r = self.radii[:, None]
+        lo, hi = self.positions - r, self.positions + r
+        for i in np.flatnonzero(self.shapes == POLYGON):
+            corners = self.world_vertices(i)
+            lo[i], hi[i] = corners.min(axis=0), corners.max(axis=0)
+        return lo, hi
+
+    @property
+    def polygons(self) -> list | None:
+        """Each body's polygon about its centroid (None for a circle), or None if all are circles."""
+        return polygons_of(self._table())
+
+    def _table(self):
+        from .bodyshapes import ShapeTable
+        return ShapeTable(self.shapes, self.vertex_start, self.body_vertices, None, None, None, None, [])
 
     @property
     def level_segments(self) -> np.ndarray:
@@ -94,16 +138,20 @@ class World:
             bad = np.flatnonzero(values <= 0)
             if bad.size:
                 raise ValueError(f"{name} must be > 0 (particle {bad[0]} has {name} {values[bad[0]]:g})")
-        too_big = np.flatnonzero(2 * self.radii > min(xmax - xmin, ymax - ymin))
+        lo, hi = self.extents()
+        too_big = np.flatnonzero(np.any(hi - lo > self.box[2:] - self.box[:2], axis=1))
         if too_big.size:
             i = too_big[0]
             raise ValueError(f"particle {i} (radius {self.radii[i]:g}) is larger than the box")
-        r = self.radii[:, None]
-        outside = np.any((self.positions - r < self.box[:2]) | (self.positions + r > self.box[2:]), axis=1)
+        lo, hi = self.extents()
+        outside = np.any((lo < self.box[:2]) | (hi > self.box[2:]), axis=1)
         if outside.any():
             i = np.flatnonzero(outside)[0]
             x, y = self.positions[i]
             raise ValueError(f"particle {i} at ({x:g}, {y:g}) with radius {self.radii[i]:g} is outside the box")
+        if np.any(self.shapes == POLYGON) and (len(self.segments) or self.map is not None):
+            raise ValueError("polygon bodies meet the box walls and each other; segments and collision maps "
+                             "collide with circles only: leave them out of a world with polygons")
         validate.no_overlaps(self)
 
     def copy(self, **changes) -> "World":
@@ -111,7 +159,8 @@ class World:
         fields = dict(positions=self.positions, velocities=self.velocities, radii=self.radii, masses=self.masses,
                       box=self.box, gravity=self.gravity, accelerations=self.accelerations, colors=self.colors,
                       restitution=self.restitution, segments=self.segments, angles=self.angles,
-                      angular_velocities=self.angular_velocities, map=self.map)
+                      angular_velocities=self.angular_velocities, map=self.map, polygons=self.polygons,
+                      friction=self.friction)
         if "gravity" in changes and "accelerations" not in changes:
             fields["accelerations"] = None   # every body follows the new gravity
         fields.update(changes)
@@ -119,3 +168,9 @@ class World:
 
     def __repr__(self) -> str:
         return f"World(n={self.n}, box={self.box.tolist()}, gravity={self.gravity.tolist()}, e={self.restitution:g})"
+
+
+def _rotated(offsets: np.ndarray, angles: np.ndarray) -> np.ndarray:
+    """offsets (n, 2) in each body's frame, turned by its angle into the world."""
+    c, s = np.cos(angles), np.sin(angles)
+    return np.column_stack([c * offsets[:, 0] - s * offsets[:, 1], s * offsets[:, 0] + c * offsets[:, 1]])

@@ -14,6 +14,7 @@ from numba import njit
 
 from ..model.kinds import CIRCLE
 from .circles import circle_circle, circles_touch
+from .manifold import pair_manifold
 from .statics import circle_segment
 
 SHAPE_PAIRS = {(CIRCLE, CIRCLE): (circles_touch, circle_circle)}
@@ -55,13 +56,39 @@ def contact_rows(shapes, positions, radii, pairs):
     return rows
 
 
+@njit(cache=True)
+def contact_table(shapes, positions, radii, vertices, start, candidates):
+    """One row (i, j, nx, ny, depth, px, py) per contact point of the candidate pairs (k, 2)."""
+    most = 1
+    for i in range(start.shape[0] - 1):
+        most = max(most, start[i + 1] - start[i])
+    moved = np.empty((most, 2))
+    table = np.empty((2 * candidates.shape[0], 7))
+    count = 0
+    for c in range(candidates.shape[0]):
+        i, j = candidates[c, 0], candidates[c, 1]
+        m = pair_manifold(shapes, positions, radii, vertices, start, i, j, 0.0, moved)
+        for k in range(m[2]):
+            depth, px, py = (m[3], m[4], m[5]) if k == 0 else (m[6], m[7], m[8])
+            table[count, 0], table[count, 1], table[count, 2], table[count, 3] = i, j, m[0], m[1]
+            table[count, 4], table[count, 5], table[count, 6] = depth, px, py
+            count += 1
+    return table[:count]
+
+
 def contacts(world, positions=None) -> dict:
-    """The contacts between the bodies of `world` (at `positions`, default the world's own):
-    pairs (k, 2) with i < j, normals (k, 2) from i to j, depths (k,), points (k, 2)."""
+    """The contacts between the bodies of `world` (at `positions`, default the world's own), one
+    per contact point (a face on a face has two): pairs (k, 2) with i < j, normals (k, 2) from i
+    to j, depths (k,) (>= 0), points (k, 2) midway between the surfaces."""
     from ..broadphase import find_pairs
+    from ..geometry.polygon import world_vertices
     positions = world.positions if positions is None else np.asarray(positions, np.float64)
     reach = world.radii[:, None]
-    pairs = touching_pairs(world.shapes, positions, world.radii,
-                           find_pairs("grid", positions - reach, positions + reach))
-    rows = contact_rows(world.shapes, positions, world.radii, pairs)
-    return {"pairs": pairs, "normals": rows[:, :2], "depths": rows[:, 2], "points": rows[:, 3:]}
+    candidates = find_pairs("grid", positions - reach, positions + reach)
+    vertices = np.empty_like(world.body_vertices)
+    for i in np.flatnonzero(world.shapes != CIRCLE):
+        s, e = world.vertex_start[i], world.vertex_start[i + 1]
+        world_vertices(world.body_vertices[s:e], positions[i, 0], positions[i, 1], world.angles[i], vertices[s:e])
+    table = contact_table(world.shapes, positions, world.radii, vertices, world.vertex_start, candidates)
+    return {"pairs": table[:, :2].astype(np.int64), "normals": table[:, 2:4], "depths": table[:, 4],
+            "points": table[:, 5:]}

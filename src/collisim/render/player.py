@@ -15,6 +15,7 @@ from typing import Callable, Iterator
 import numpy as np
 
 from .. import palette
+from ..model.kinds import CIRCLE
 from ..model.scene import RenderSettings
 from ..model.trajectory import Events, approximate_summary
 from . import explain, raster
@@ -169,7 +170,12 @@ class PanelPlayer:
         line = max(2, int(round(2 * self.unit)))   # survives H.264 at -ql, and grows with the frame
         if settings.trails:
             raster.draw_trails(inside, self.view, np.array(self._history), world.colors, line, corner)
-        raster.draw_circles(canvas, self.view.to_pixels(state.positions), self.view.length(world.radii), world.colors)
+        circles = world.shapes == CIRCLE
+        raster.draw_circles(canvas, self.view.to_pixels(state.positions[circles]),
+                            self.view.length(world.radii[circles]), world.colors[circles])
+        if not circles.all():
+            outlines, bodies = raster.polygon_outlines(world, state.positions, state.angles)
+            raster.draw_polygons(canvas, [self.view.to_pixels(o) for o in outlines], world.colors[bodies])
         if settings.flash:
             self._draw_flashes(inside, corner, state.time)
         if settings.arrows:

@@ -12,6 +12,7 @@ import cv2
 import numpy as np
 
 from .. import palette
+from ..model.kinds import CIRCLE
 from . import splat
 
 SHIFT = 4
@@ -178,6 +179,23 @@ def draw_rects(canvas, view, lo, hi, color_rgb, thickness: int = 1) -> None:
     bottom_right = fixed(view.to_pixels(np.column_stack([np.asarray(hi)[:, 0], np.asarray(lo)[:, 1]]))).tolist()
     for (x0, y0), (x1, y1) in zip(top_left, bottom_right):
         cv2.rectangle(canvas, (x0, y0), (x1, y1), color, thickness, cv2.LINE_AA, SHIFT)
+
+
+def draw_polygons(canvas, outlines_px, colors_rgb) -> None:
+    """Filled anti-aliased convex polygons, later over earlier, each with an edge line so a face
+    reads against its neighbour. outlines_px: a list of (k, 2) float pixel arrays; colors_rgb:
+    (m, 3), one per polygon."""
+    for outline, color in zip(outlines_px, colors_rgb):
+        points = fixed(outline).astype(np.int32)
+        cv2.fillConvexPoly(canvas, points, bgr(color), lineType=cv2.LINE_AA, shift=SHIFT)
+        edge = tuple(int(0.6 * c) for c in bgr(color))
+        cv2.polylines(canvas, [points], True, edge, 1, lineType=cv2.LINE_AA, shift=SHIFT)
+
+
+def polygon_outlines(world, positions, angles) -> tuple[list, np.ndarray]:
+    """The world outlines (k, 2) of every polygon body at these poses, and their body indices."""
+    bodies = np.flatnonzero(world.shapes != CIRCLE)
+    return [world.world_vertices(i, positions[i], angles[i]) for i in bodies], bodies
 
 
 def draw_lines_px(canvas, starts, ends, color_rgb, thickness: int = 1) -> None:

@@ -17,43 +17,44 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-Memory = namedtuple("Memory", ["keys", "impulses"])
+Memory = namedtuple("Memory", ["keys", "impulses", "frictions"])
 Memory.__doc__ = """Last step's impulses of its resting contacts: keys (k,) int64 ascending (row_key)
-and their accumulated normal impulses (k,)."""
+and their accumulated normal and friction impulses (k,)."""
 
 
 @njit(cache=True)
 def no_memory():
-    return Memory(np.empty(0, np.int64), np.empty(0))
+    return Memory(np.empty(0, np.int64), np.empty(0), np.empty(0))
 
 
 @njit(cache=True)
 def row_key(rows, r, n):
-    """A number naming row r's contact among n bodies, the same from step to step."""
+    """A number naming row r's contact point among n bodies, the same from step to step: the
+    pair (i, j) or body i and a wall, and the point's number in their manifold."""
     other = rows.j[r] if rows.j[r] >= 0 else n + rows.wall[r]
-    return rows.i[r] * (n + 4) + other
+    return 2 * (rows.i[r] * (n + 4) + other) + rows.feature[r]
 
 
 @njit(cache=True)
 def remember(rows, count, n):
     """The impulses of this step's pressed rows that were not impacts."""
-    keys, impulses = np.empty(count, np.int64), np.empty(count)
+    keys, impulses, frictions = np.empty(count, np.int64), np.empty(count), np.empty(count)
     k = 0
     for r in range(count):
         if rows.hit[r] == 0.0 and rows.impulse[r] > 0.0:
-            keys[k], impulses[k] = row_key(rows, r, n), rows.impulse[r]
+            keys[k], impulses[k], frictions[k] = row_key(rows, r, n), rows.impulse[r], rows.friction[r]
             k += 1
     order = np.argsort(keys[:k])   # rows are in canonical order, but pairs and walls interleave keys
-    return Memory(keys[:k][order], impulses[:k][order])
+    return Memory(keys[:k][order], impulses[:k][order], frictions[:k][order])
 
 
 @njit(cache=True)
 def recall(rows, count, memory, n):
     """Each row's starting impulse: what its contact had last step, 0 if it had none."""
     for r in range(count):
-        rows.impulse[r] = 0.0
+        rows.impulse[r], rows.friction[r] = 0.0, 0.0
         if memory.keys.shape[0] > 0:
             key = row_key(rows, r, n)
             at = np.searchsorted(memory.keys, key)
             if at < memory.keys.shape[0] and memory.keys[at] == key:
-                rows.impulse[r] = memory.impulses[at]
+                rows.impulse[r], rows.friction[r] = memory.impulses[at], memory.frictions[at]

@@ -9,11 +9,12 @@ times `space.step` and nothing else.
 
 What it sets up
 ---------------
-* one dynamic `pymunk.Body(mass, moment)` per circle with the World's mass and moment of
-  inertia (½·m·r², `World.inertias`), angle and spin, and a `pymunk.Circle` on it;
-* elasticity = the World's restitution on every shape (Chipmunk multiplies the two shapes'
-  elasticities, so two particles meet with e², a particle and a wall with e: what a user gets;
-  the workloads are elastic, e = 1, where the two agree), friction 0;
+* one dynamic `pymunk.Body(mass, moment)` per body with the World's mass and moment of
+  inertia (`World.inertias`: ½·m·r² for a disc, the polygon's own for a polygon), angle and
+  spin, and a `pymunk.Circle` or a `pymunk.Poly` of the same vertices on it (reference/bodies.py);
+* elasticity = the World's restitution and friction = the World's μ on every shape (Chipmunk
+  multiplies the two shapes' values, so two bodies meet with e² and μ², a body and a wall with e
+  and μ: what a user gets; the gas workloads are elastic and frictionless, where the two agree);
 * the box as four static segments of radius 0 lying on its edges, each on its own static body
   (a static body costs nothing in a step; it only lets a recorded run tell the walls apart),
   and the World's thin segments (a map's exact outline included) as static segments of radius
@@ -25,7 +26,7 @@ What it sets up
   collision_persistence 3, the default spatial index, no sleeping.
 
 A frame of k substeps is k calls of `space.step(1 / (fps·k))`. `time_steps` times exactly those
-calls. A recorded run (`record`) also reads, after each step, every body's position and velocity
+calls. A recorded run (`record`) also reads, after each step, every body's pose and velocity
 and every touching arbiter through pymunk's batch API (no callbacks in the Space), which costs
 Python time a user who only steps would not pay: recorded runs are for accuracy, never timed.
 
@@ -50,8 +51,8 @@ import pymunk.batch
 
 from ...model.kinds import PAIR, SEGMENT, WALL
 from ...model.trajectory import Events, Trajectory
+from .bodies import add_body, read_state
 
-_BODY_FIELDS = pymunk.batch.BodyFields.POSITION | pymunk.batch.BodyFields.VELOCITY
 _A = pymunk.batch.ArbiterFields
 _ARBITER_FIELDS = (_A.BODY_A_ID | _A.BODY_B_ID | _A.IS_FIRST_CONTACT | _A.CONTACT_COUNT | _A.TOTAL_IMPULSE
                    | _A.POINT_A_1 | _A.POINT_B_1)
@@ -65,31 +66,29 @@ class PlainPymunk:
         self.space = pymunk.Space()
         if world.uniform_acceleration:
             self.space.gravity = tuple(float(a) for a in (world.accelerations[0] if world.n else world.gravity))
-        e = float(world.restitution)
         self.bodies = []
         for i in range(world.n):
-            body = pymunk.Body(float(world.masses[i]), float(world.inertias[i]))
-            body.position = tuple(world.positions[i])
-            body.velocity = tuple(world.velocities[i])
-            body.angle = float(world.angles[i])
-            body.angular_velocity = float(world.angular_velocities[i])
+            body, shape = add_body(self.space, world, i, world.inertias[i])
             if not world.uniform_acceleration:
                 body.velocity_func = _constant_acceleration(tuple(world.accelerations[i]))
-            circle = pymunk.Circle(body, float(world.radii[i]))
-            circle.elasticity, circle.friction = e, 0.0
-            self.space.add(body, circle)
+            self._set_material(shape)
             self.bodies.append(body)
         xmin, ymin, xmax, ymax = (float(v) for v in world.box)
         # collisim's wall order: left, right, bottom, top
         edges = [(xmin, ymin, xmin, ymax), (xmax, ymin, xmax, ymax), (xmin, ymin, xmax, ymin), (xmin, ymax, xmax, ymax)]
-        self.walls = [self._static_segment(edge, e) for edge in edges]
-        self.segments = [self._static_segment(segment, e) for segment in world.level_segments]
+        self.walls = [self._static_segment(edge) for edge in edges]
+        self.segments = [self._static_segment(segment) for segment in world.level_segments]
+        self._buffer = pymunk.batch.Buffer()
 
-    def _static_segment(self, ends, elasticity: float) -> pymunk.Body:
+    def _set_material(self, shape) -> None:
+        """Every shape, walls and segments included: the World's e and μ (see the docstring)."""
+        shape.elasticity, shape.friction = float(self.world.restitution), float(self.world.friction)
+
+    def _static_segment(self, ends) -> pymunk.Body:
         x0, y0, x1, y1 = (float(v) for v in ends)
         body = pymunk.Body(body_type=pymunk.Body.STATIC)
         shape = pymunk.Segment(body, (x0, y0), (x1, y1), 0.0)
-        shape.elasticity, shape.friction = elasticity, 0.0
+        self._set_material(shape)
         self.space.add(body, shape)
         return body
 
@@ -105,21 +104,18 @@ class PlainPymunk:
         return time.perf_counter() - start
 
     def state(self) -> tuple:
-        """(positions (n, 2), velocities (n, 2)) in the World's order, read in one batch call."""
-        n = self.world.n
-        buffer = pymunk.batch.Buffer()
-        pymunk.batch.get_space_bodies(self.space, _BODY_FIELDS, buffer)
-        # one row (x, y, vx, vy) per dynamic body, in the order they were added
-        rows = np.frombuffer(buffer.float_buf(), np.float64)[:4 * n].reshape(n, 4)
-        return rows[:, :2].copy(), rows[:, 2:].copy()
+        """(positions (n, 2), velocities (n, 2), angles (n,), angular velocities (n,)) in the
+        World's order, read in one batch call."""
+        return read_state(self.space, self.world.n, self._buffer)
 
     def record(self, fps: float, frames: int, substeps: int = 1) -> Trajectory:
         """Advance `frames` frames and record every frame and every contact (see the module
         docstring); profile["step"] is the time spent in space.step alone."""
         n, dt = self.world.n, 1.0 / fps / substeps
         positions, velocities = np.empty((frames + 1, n, 2)), np.empty((frames + 1, n, 2))
+        angles, spins = np.empty((frames + 1, n)), np.empty((frames + 1, n))
         counts = np.zeros((frames + 1, 3), np.int64)
-        positions[0], velocities[0] = self.state()
+        positions[0], velocities[0], angles[0], spins[0] = self.state()
         reader = _ArbiterReader(self)
         spent = 0.0
         for frame in range(1, frames + 1):
@@ -128,10 +124,8 @@ class PlainPymunk:
                 self.space.step(dt)
                 spent += time.perf_counter() - start
                 counts[frame] += reader.read(((frame - 1) * substeps + sub + 1) * dt)
-            positions[frame], velocities[frame] = self.state()
+            positions[frame], velocities[frame], angles[frame], spins[frame] = self.state()
         w = self.world
-        angles = np.broadcast_to(w.angles, (frames + 1, n)).copy()   # positions only: see the docstring
-        spins = np.broadcast_to(w.angular_velocities, (frames + 1, n)).copy()
         return Trajectory(times=np.arange(frames + 1) / fps, positions=positions, velocities=velocities,
                           angles=angles, angular_velocities=spins, wall_collisions=counts[:, WALL],
                           pair_collisions=counts[:, PAIR], segment_collisions=counts[:, SEGMENT],

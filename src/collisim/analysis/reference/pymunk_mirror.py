@@ -6,15 +6,17 @@ they differ the difference can be traced to one of the items below.
 
 What the mirror sets up
 -----------------------
-* one dynamic body per circle with the World's mass and an *infinite* moment of inertia: a
-  collisim circle has no rotational degree of freedom, and with a finite moment any tangential
-  impulse (friction, or round-off in the contact frame) would turn translational kinetic energy
-  into spin that collisim cannot represent;
-* friction 0 on every shape (Chipmunk multiplies the two shapes' frictions);
+* one dynamic body per body of the World (reference/bodies.py): a pymunk.Circle, or a
+  pymunk.Poly of the same vertices about the centroid, with the World's mass, angle and spin.
+  Moment: the World's (World.inertias) for a polygon, and for a circle when friction acts; a
+  frictionless circle gets an *infinite* moment, since nothing can turn it in collisim, while
+  in Chipmunk round-off in the contact frame would turn translational kinetic energy into spin;
+* friction: Chipmunk multiplies the two shapes' frictions, so every shape gets sqrt(μ) and each
+  contact's product is the World's μ (as restitution, below);
 * restitution: Chipmunk's contact restitution is the *product* of the two shapes' elasticities.
   The usual recipe (e on particles, 1 on walls) gives e against walls but e² between two
   particles; the mirror sets sqrt(e) on *every* shape, so each product, particle-particle,
-  particle-wall and particle-segment, is exactly e;
+  particle-wall and particle-segment, is exactly e (one function, _per_shape, for e and μ);
 * the box walls are thick static segments (a segment of radius R, R = the box's larger side,
   whose surface lies on the box edge and which runs R past each corner). Chipmunk has no half
   planes; a thin wall would let a particle that moves more than its radius in a step tunnel out
@@ -83,8 +85,9 @@ import numpy as np
 import pymunk
 import pymunk.batch
 
-from ...model.kinds import PAIR, SEGMENT, WALL
+from ...model.kinds import PAIR, POLYGON, SEGMENT, WALL
 from ...model.trajectory import Events, Trajectory
+from .bodies import add_body, read_state
 
 ITERATIONS = 30
 SLOP_PER_RADIUS = 1e-3
@@ -95,7 +98,6 @@ COLLISION_BIAS = 1e-12
 COLLISION_PERSISTENCE = 3   # Chipmunk's default: the cache only matters for resting contacts
 
 PARTICLE_TYPE, WALL_TYPE, SEGMENT_TYPE = 1, 2, 3
-_STATE_FIELDS = pymunk.batch.BodyFields.POSITION | pymunk.batch.BodyFields.VELOCITY
 
 
 def simulate_pymunk(scene, substeps=None, iterations=None) -> Trajectory:
@@ -132,19 +134,15 @@ class Mirror:
         self._buffer = pymunk.batch.Buffer()
 
     def state(self) -> tuple:
-        """(positions (n, 2), velocities (n, 2)) read in one batch call."""
-        n = self.world.n
-        self._buffer.clear()
-        pymunk.batch.get_space_bodies(self.space, _STATE_FIELDS, self._buffer)
-        # one row (x, y, vx, vy) per body, dynamic bodies first in the order they were added
-        rows = np.frombuffer(self._buffer.float_buf(), np.float64)[:4 * n].reshape(n, 4)
-        return rows[:, :2].copy(), rows[:, 2:].copy()
+        """(positions (n, 2), velocities (n, 2), angles (n,), angular velocities (n,))."""
+        return read_state(self.space, self.world.n, self._buffer)
 
     def run(self, fps: float, frames: int, substeps: int) -> Trajectory:
         n, dt = self.world.n, 1.0 / fps / substeps
         positions, velocities = np.empty((frames + 1, n, 2)), np.empty((frames + 1, n, 2))
+        angles, spins = np.empty((frames + 1, n)), np.empty((frames + 1, n))
         collisions = np.zeros((frames + 1, 3), np.int64)
-        positions[0], velocities[0] = self.state()
+        positions[0], velocities[0], angles[0], spins[0] = self.state()
         spent = 0.0
         for frame in range(1, frames + 1):
             start = time.perf_counter()
@@ -153,11 +151,8 @@ class Mirror:
                 self.space.step(dt)
             spent += time.perf_counter() - start
             collisions[frame] = self.recorder.take_counts()
-            positions[frame], velocities[frame] = self.state()
+            positions[frame], velocities[frame], angles[frame], spins[frame] = self.state()
         w = self.world
-        # bodies have infinite moments (see above): they keep their angles and spins
-        angles = np.broadcast_to(w.angles, (frames + 1, n)).copy()
-        spins = np.broadcast_to(w.angular_velocities, (frames + 1, n)).copy()
         return Trajectory(times=np.arange(frames + 1) / fps, positions=positions, velocities=velocities,
                           angles=angles, angular_velocities=spins, wall_collisions=collisions[:, WALL],
                           pair_collisions=collisions[:, PAIR], segment_collisions=collisions[:, SEGMENT],
@@ -218,25 +213,28 @@ def _new_space(world, iterations: int) -> pymunk.Space:
     return space
 
 
-def _shape_elasticity(world) -> float:
-    """Chipmunk multiplies the two shapes' elasticities: sqrt(e) on every shape makes each
-    product e (e on particles and 1 on walls would give e² between two particles)."""
-    return math.sqrt(world.restitution)
+def _per_shape(value: float) -> float:
+    """Chipmunk multiplies the two shapes' elasticities (and frictions): sqrt(value) on every
+    shape makes each contact's product the World's value (e on particles and 1 on walls would
+    give e² between two particles)."""
+    return math.sqrt(value)
+
+
+def _moments(world) -> np.ndarray:
+    """Each body's moment: the World's, but infinite for a circle no friction can turn (see the
+    module docstring)."""
+    spins = (world.shapes == POLYGON) | (world.friction > 0.0)
+    return np.where(spins, world.inertias, math.inf)
 
 
 def _add_particles(space, world, recorder) -> list:
-    elasticity = _shape_elasticity(world)
     bodies = []
-    for i in range(world.n):
-        body = pymunk.Body(float(world.masses[i]), math.inf)   # no rotation: see the docstring
-        body.position = tuple(world.positions[i])
-        body.velocity = tuple(world.velocities[i])
+    for i, moment in enumerate(_moments(world)):
+        body, shape = add_body(space, world, i, moment)
         if not world.uniform_acceleration:
             body.velocity_func = _constant_acceleration(tuple(world.accelerations[i]))
-        circle = pymunk.Circle(body, float(world.radii[i]))
-        _set_material(circle, PARTICLE_TYPE, elasticity)
-        space.add(body, circle)
-        recorder.index[circle] = i
+        _set_material(shape, PARTICLE_TYPE, world)
+        recorder.index[shape] = i
         bodies.append(body)
     return bodies
 
@@ -257,24 +255,23 @@ def _add_walls(space, world, recorder) -> None:
                     ((xmax + thick, ymin - reach), (xmax + thick, ymax + reach)),
                     ((xmin - reach, ymin - thick), (xmax + reach, ymin - thick)),
                     ((xmin - reach, ymax + thick), (xmax + reach, ymax + thick))]
-    elasticity = _shape_elasticity(world)
     for index, (a, b) in enumerate(centre_lines):
         wall = pymunk.Segment(space.static_body, a, b, thick)
-        _set_material(wall, WALL_TYPE, elasticity)
+        _set_material(wall, WALL_TYPE, world)
         space.add(wall)
         recorder.index[wall] = index
 
 
 def _add_segments(space, world, recorder) -> None:
-    elasticity = _shape_elasticity(world)
     for index, (x0, y0, x1, y1) in enumerate(world.level_segments):   # the map's exact outline too
         segment = pymunk.Segment(space.static_body, (float(x0), float(y0)), (float(x1), float(y1)), 0.0)
-        _set_material(segment, SEGMENT_TYPE, elasticity)
+        _set_material(segment, SEGMENT_TYPE, world)
         space.add(segment)
         recorder.index[segment] = index
 
 
-def _set_material(shape, collision_type: int, elasticity: float) -> None:
+def _set_material(shape, collision_type: int, world) -> None:
+    """Every shape's material, walls and segments included: see _per_shape."""
     shape.collision_type = collision_type
-    shape.elasticity = elasticity
-    shape.friction = 0.0
+    shape.elasticity = _per_shape(world.restitution)
+    shape.friction = _per_shape(world.friction)

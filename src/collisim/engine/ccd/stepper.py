@@ -11,7 +11,7 @@ import time
 
 import numpy as np
 
-from ...model.kinds import MAP, SEGMENT
+from ...model.kinds import CIRCLE, MAP, SEGMENT
 from ...model.trajectory import Events
 from ..discrete import new_frames
 from ..profile import Profile
@@ -35,6 +35,9 @@ class CCDStepper:
 
     def __init__(self, world, fps: float, frames: int, profile: Profile | None = None,
                  max_events_per_frame: int | None = None):
+        if np.any(world.shapes != CIRCLE):
+            raise ValueError("method ccd covers circles, segments and maps; this scene has polygons: "
+                             "use method discrete")
         if not world.uniform_acceleration:
             raise ValueError("method ccd needs one uniform gravity for all particles")
         self.world = world

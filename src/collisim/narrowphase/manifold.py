@@ -1,0 +1,97 @@
+"""Contact manifolds of any two bodies, and of a body and a box wall, as the engine needs them:
+including *speculative* points of shapes still apart but closer than a margin.
+
+A manifold is narrowphase/polygons.py's tuple (nx, ny, count, depth0, px0, py0, depth1, px1,
+py1): the unit normal from the first body towards the second, and up to two points, each with
+its depth (negative: a gap) and its position midway between the two surfaces.
+
+Shapes apart by a gap g < margin are brought to touching by moving the second one back by g
+along the normal (for a circle: by growing it), their manifold taken there, and then the gap
+given back: every depth less by g, every point moved by g/2 along the normal. For convex shapes
+this is exact: moving along the axis of least separation keeps the same closest features.
+
+Bodies' shapes: shapes (n,) kinds; positions (n, 2); radii (n,) (a polygon's bounding radius);
+vertices (V, 2) the polygons' world vertices this step, body i's in vertices[start[i]:start[i+1]].
+"""
+import numpy as np
+from numba import njit
+
+from ..model.kinds import CIRCLE
+from .circles import circle_circle
+from .polygons import box_wall_halfplane, polygon_circle, polygon_halfplane, polygon_polygon
+
+NONE = (1.0, 0.0, 0, -np.inf, 0.0, 0.0, 0.0, 0.0, 0.0)
+
+
+@njit(cache=True)
+def _given_back(m, gap):
+    """Manifold m taken with the second shape moved `gap` closer, for the shapes where they are."""
+    nx, ny, count, d0, px0, py0, d1, px1, py1 = m
+    half = 0.5 * gap
+    return (nx, ny, count, d0 - gap, px0 + half * nx, py0 + half * ny, d1 - gap, px1 + half * nx,
+            py1 + half * ny)
+
+
+@njit(cache=True)
+def _flipped(m):
+    """Manifold m with its two shapes swapped: the normal reversed."""
+    nx, ny, count, d0, px0, py0, d1, px1, py1 = m
+    return -nx, -ny, count, d0, px0, py0, d1, px1, py1
+
+
+@njit(cache=True)
+def _circles(positions, radii, i, j, margin):
+    nx, ny, depth, _, _ = circle_circle(positions, radii, i, j)
+    if depth <= -margin:
+        return NONE
+    reach = radii[i] - 0.5 * depth   # midway between the two surfaces
+    return nx, ny, 1, depth, positions[i, 0] + reach * nx, positions[i, 1] + reach * ny, 0.0, 0.0, 0.0
+
+
+@njit(cache=True)
+def _polygon_circle(a, cx, cy, r, margin):
+    m = polygon_circle(a, cx, cy, r + margin)     # the circle grown by the margin
+    if m[2] == 0:
+        return NONE
+    return _given_back(m, margin)
+
+
+@njit(cache=True)
+def _polygons(a, b, margin, moved):
+    m = polygon_polygon(a, b)
+    if m[2] > 0:
+        return m
+    gap = -m[3]
+    if gap >= margin:
+        return NONE
+    for k in range(b.shape[0]):     # b moved back to touching a
+        moved[k, 0], moved[k, 1] = b[k, 0] - gap * m[0], b[k, 1] - gap * m[1]
+    touching = polygon_polygon(a, moved[:b.shape[0]])
+    if touching[2] == 0:
+        return NONE
+    return _given_back(touching, gap)
+
+
+@njit(cache=True)
+def pair_manifold(shapes, positions, radii, vertices, start, i, j, margin, moved):
+    """The manifold of bodies i and j (normal from i to j), with speculative points up to
+    `margin` apart; count 0 if they are farther. moved: scratch (>= the largest polygon, 2)."""
+    a, b = vertices[start[i]:start[i + 1]], vertices[start[j]:start[j + 1]]
+    if shapes[i] == CIRCLE and shapes[j] == CIRCLE:
+        return _circles(positions, radii, i, j, margin)
+    if shapes[j] == CIRCLE:
+        return _polygon_circle(a, positions[j, 0], positions[j, 1], radii[j], margin)
+    if shapes[i] == CIRCLE:
+        return _flipped(_polygon_circle(b, positions[i, 0], positions[i, 1], radii[i], margin))
+    return _polygons(a, b, margin, moved)
+
+
+@njit(cache=True)
+def polygon_wall_manifold(vertices, start, i, box, wall, margin):
+    """The manifold of polygon body i and one box wall (normal into the wall), with speculative
+    points up to `margin` from it."""
+    nx, ny, offset = box_wall_halfplane(box, wall)
+    m = polygon_halfplane(vertices[start[i]:start[i + 1]], nx, ny, offset + margin)
+    if m[2] == 0:
+        return NONE
+    return _given_back(m, margin)
