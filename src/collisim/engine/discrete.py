@@ -101,7 +101,7 @@ def sort_pairs(pairs, n):
 
 
 @njit(cache=True)
-def _contact_phases(bodies, statics, broad, dt, margin, lo, hi, vertices, moved, phase_cycles, t):
+def _contact_phases(bodies, statics, broad, dt, margin, lo, hi, vertices, moved, rows, phase_cycles, t):
     """broad and narrow: the step's contact rows, from the state at its start. vertices (V, 2)
     receives the polygons' world vertices. Returns (rows, count, candidates, t)."""
     b = bodies
@@ -113,7 +113,9 @@ def _contact_phases(bodies, statics, broad, dt, margin, lo, hi, vertices, moved,
         _bounds(b, margin, lo, hi)
         pairs = sort_pairs(candidate_pairs(broad, lo, hi), n)
         t = _lap(phase_cycles, BROAD, t)
-    rows = new_rows(2 * pairs.shape[0] + 8 * n)   # up to two points a pair, and a body and wall
+    needed = 2 * pairs.shape[0] + 8 * n   # up to two points a pair, and a body and wall
+    if rows.i.shape[0] < needed:
+        rows = new_rows(needed + needed // 2)   # kept from step to step: grown, never shrunk
     count = pair_rows(b, vertices, margin, dt, pairs, rows, moved)
     in_pair = np.zeros(n, np.bool_)
     for r in range(count):
@@ -236,7 +238,8 @@ def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, memor
     scratch = statics_scratch(n, s.segments.shape[0])
     # each step's contacts are found from the state that ends the step before (so a frame's
     # candidates are those of the state it records); the first, from the state given
-    rows, count, candidates, t = _contact_phases(b, s, broad, dt, margin, lo, hi, vertices, moved, phase_cycles,
+    rows, count, candidates, t = _contact_phases(b, s, broad, dt, margin, lo, hi, vertices, moved, new_rows(8 * n),
+                                                 phase_cycles,
                                                  cycles())
     for frame in range(out.positions.shape[0]):
         frame_collisions = out.collisions[frame]
@@ -269,7 +272,7 @@ def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, memor
                 for i in range(n):
                     push_out(s.map, b.positions, b.radii[i], i)
                 t = _lap(phase_cycles, SETTLE, t)
-            rows, count, candidates, t = _contact_phases(b, s, broad, dt, margin, lo, hi, vertices, moved,
+            rows, count, candidates, t = _contact_phases(b, s, broad, dt, margin, lo, hi, vertices, moved, rows,
                                                          phase_cycles, t)
         out.candidates[frame] = candidates
         out.positions[frame] = b.positions

@@ -224,28 +224,37 @@ def solve_velocities(rows, count, lin, ang, accelerations, masses, inertias, fri
     for r in range(count):
         if rows.impulse[r] != 0.0 or rows.friction[r] != 0.0:
             apply(push_lin, push_ang, masses, inertias, rows, r, 0.5 * rows.impulse[r], 0.5 * rows.friction[r])
-    for _ in range(iterations):
+    for _ in range(iterations):   # a sweep that changes nothing ends the solve: the next would too
+        changed = False
         for r in range(count):
             if friction > 0.0:   # friction first, within what the normal impulse allowed last sweep
                 sliding = relative(mean_lin, ang, rows, r, TANGENT) + relative(push_lin, push_ang, rows, r, TANGENT)
                 limit = friction * rows.impulse[r]
                 spread = min(max(rows.friction[r] - 2.0 * rows.mass_t[r] * sliding, -limit), limit)
-                apply(push_lin, push_ang, masses, inertias, rows, r, 0.0, 0.5 * (spread - rows.friction[r]))
-                rows.friction[r] = spread
+                if spread != rows.friction[r]:
+                    apply(push_lin, push_ang, masses, inertias, rows, r, 0.0, 0.5 * (spread - rows.friction[r]))
+                    rows.friction[r] = spread
+                    changed = True
         r = 0
         while r < count:
             closing = _mean_closing(rows, r, mean_lin, ang, push_lin, push_ang)
             target = -max(rows.gap[r], 0.0) / dt
             if rows.partner[r] == r + 1:
                 second = _mean_closing(rows, r + 1, mean_lin, ang, push_lin, push_ang)
+                before = (rows.impulse[r], rows.impulse[r + 1])
                 if _block(rows, r, closing, second, target, -max(rows.gap[r + 1], 0.0) / dt, 0.5, rows.impulse,
                           push_lin, push_ang, masses, inertias):
+                    changed = changed or before != (rows.impulse[r], rows.impulse[r + 1])
                     r += 2
                     continue
             total = max(rows.impulse[r] + 2.0 * rows.mass[r] * (target - closing), 0.0)
-            apply(push_lin, push_ang, masses, inertias, rows, r, 0.5 * (total - rows.impulse[r]), 0.0)
-            rows.impulse[r] = total
+            if total != rows.impulse[r]:
+                apply(push_lin, push_ang, masses, inertias, rows, r, 0.5 * (total - rows.impulse[r]), 0.0)
+                rows.impulse[r] = total
+                changed = True
             r += 1
+        if not changed:
+            break
 
 
 @njit(cache=True)
@@ -258,6 +267,7 @@ def solve_positions(rows, count, lin, ang, accelerations, masses, inertias, dt, 
     rows.pseudo[:count] = 0.0
     mean_lin = lin + 0.5 * dt * accelerations
     for _ in range(iterations):
+        changed = False
         for r in range(count):
             excess = -rows.gap[r] - rows.slop[r]
             if excess <= 0.0:
@@ -265,8 +275,12 @@ def solve_positions(rows, count, lin, ang, accelerations, masses, inertias, dt, 
             closing = (relative(mean_lin, ang, rows, r, NORMAL) + relative(push_lin, push_ang, rows, r, NORMAL)
                        + relative(shift_lin, shift_ang, rows, r, NORMAL))
             total = max(rows.pseudo[r] + rows.mass[r] * (POSITION_RATE * excess / dt - closing), 0.0)
-            apply(shift_lin, shift_ang, masses, inertias, rows, r, total - rows.pseudo[r], 0.0)
-            rows.pseudo[r] = total
+            if total != rows.pseudo[r]:
+                apply(shift_lin, shift_ang, masses, inertias, rows, r, total - rows.pseudo[r], 0.0)
+                rows.pseudo[r] = total
+                changed = True
+        if not changed:
+            break
 
 
 @njit(cache=True)
@@ -276,6 +290,8 @@ def come_to_rest(rows, count, lin, ang, masses, inertias, friction, iterations):
     out what sliding it can. Each correction takes one row's relative velocity toward 0, which
     only ever lowers kinetic energy: a resting contact does not bounce."""
     pressed = rows.impulse[:count] > 0.0
+    if not pressed.any():
+        return
     for _ in range(iterations):
         for r in range(count):
             if pressed[r]:
