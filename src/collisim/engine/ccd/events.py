@@ -57,7 +57,7 @@ from ..eventlog import append, new_log, with_room
 from .bodies import FREE, Bodies, Environment, advance, position_at, release, velocity_at
 from .eventqueue import CELL, is_current, key_parts, new_queue, pop, reserve
 from .fallback import finish_frame_discretely
-from ...broadphase.cells import assign_all, link, make_grid, unlink
+from ...broadphase.cells import assign_all, make_grid, move
 from .predict import predict_pairs, predict_solo
 from .resolve import (add_pair_contact, add_segment_contact, add_wall_contact, new_contacts, settle_resting,
                       solve_contacts)
@@ -178,9 +178,7 @@ def apply_bookkeeping(bodies, grid, env, kind, i, j, t):
     """A cell crossing (move i to the next cell in direction j) or a slide off a segment's end."""
     advance(bodies, i, t)
     if kind == CELL:
-        destination = grid.cell[i] + (-1, 1, -grid.nx, grid.nx)[j]
-        unlink(grid, i)
-        link(grid, i, destination)
+        move(grid, i, grid.cell[i] + (-1, 1, -grid.nx, grid.nx)[j])
     else:
         release(bodies, env, i)
 
@@ -201,8 +199,10 @@ streamed in blocks of any size is the same run: bodies, grid, env; the event que
 later is predicted)."""
 
 
-def start_event_loop(positions, velocities, gravity, radii, masses, box, restitution, segments, t_end) -> EventLoop:
-    """A loop at t = 0 with every event up to t_end predicted (inputs checked and copied)."""
+def start_event_loop(positions, velocities, gravity, radii, masses, box, restitution, segments, t_end,
+                     separate_large=True) -> EventLoop:
+    """A loop at t = 0 with every event up to t_end predicted (inputs checked and copied).
+    separate_large=False sizes every cell by the largest body (broadphase/cells.py)."""
     positions, velocities, gravity, radii, masses, box, segments = _checked_inputs(
         positions, velocities, gravity, radii, masses, box, segments)
     if not 0.0 <= restitution <= 1.0:
@@ -212,7 +212,7 @@ def start_event_loop(positions, velocities, gravity, radii, masses, box, restitu
                     np.full(n, FREE, np.int64), np.full(n, FREE, np.int64), np.zeros((n, 2)), np.zeros(n, np.int64),
                     np.zeros(n))
     env = Environment(box, segments, gravity, float(restitution))
-    grid = make_grid(box, radii, segments)
+    grid = make_grid(box, radii, segments, separate_large)
     base = max(n, len(segments), N_WALLS) + 1
     done = np.zeros(n, np.bool_)
     queue = schedule_all(bodies, grid, env, new_queue(16 * (n + 1)), 0.0, t_end, base, done)
@@ -281,7 +281,7 @@ def _checked_inputs(positions, velocities, gravity, radii, masses, box, segments
 
 
 def simulate_events(positions, velocities, gravity, radii, masses, box, restitution, segments, frame_dt, n_frames,
-                    max_events_per_frame=100_000) -> CCDResult:
+                    max_events_per_frame=100_000, separate_large=True) -> CCDResult:
     """Exact event-driven simulation of n circles, sampled every frame_dt for n_frames.
 
     positions, velocities (n, 2); gravity (2,) the same for every particle; radii,
@@ -292,7 +292,7 @@ def simulate_events(positions, velocities, gravity, radii, masses, box, restitut
     if max_events_per_frame < 1 or n_frames < 0 or not frame_dt > 0:
         raise ValueError("need max_events_per_frame >= 1, n_frames >= 0 and frame_dt > 0")
     loop = start_event_loop(positions, velocities, gravity, radii, masses, box, restitution, segments,
-                            n_frames * frame_dt)
+                            n_frames * frame_dt, separate_large)
     n, samples = len(loop.bodies.pos), n_frames + 1
     out_positions, out_velocities = np.empty((samples, n, 2)), np.empty((samples, n, 2))
     counts, over_budget = np.zeros((samples, 3), np.int64), np.zeros(samples, np.bool_)

@@ -22,7 +22,7 @@ from ...geometry.circle import line_of_centres
 from ...geometry.segment import segment_contact
 from ...response.impulse import apply_normal_impulse, push_apart
 from .bodies import advance, release
-from ...broadphase.cells import assign_all, neighbour_block
+from ...broadphase.cells import assign_all, reach_block
 
 PROJECTION_PASSES = 4
 
@@ -41,14 +41,18 @@ def _separate(bodies, i, j):
 @njit(cache=True, error_model="numpy")
 def _separate_pairs(bodies, grid):
     for i in range(bodies.radius.shape[0]):
-        cx_lo, cx_hi, cy_lo, cy_hi = neighbour_block(grid, grid.cell[i])
+        cx_lo, cx_hi, cy_lo, cy_hi = reach_block(grid, grid.cell[i], grid.reach[i])
         for cy in range(cy_lo, cy_hi):
             for cx in range(cx_lo, cx_hi):
                 j = grid.head[cy * grid.nx + cx]
                 while j >= 0:
-                    if j > i:
+                    if j > i or grid.reach[i] > 1:   # a large body's pairs are found from its side only
                         _separate(bodies, i, j)
                     j = grid.next[j]
+        for k in range(grid.apart.shape[0]):   # the large bodies against each other
+            j = grid.apart[k]
+            if j > i and grid.reach[i] > 1:
+                _separate(bodies, i, j)
 
 
 @njit(cache=True, error_model="numpy")
