@@ -59,6 +59,7 @@ from .eventqueue import CELL, is_current, key_parts, new_queue, pop, reserve
 from .fallback import finish_frame_discretely
 from ...broadphase.cells import assign_all, make_grid, move
 from .predict import predict_pairs, predict_solo
+from .support import log_frame_supports, new_supports, note_supports
 from .resolve import (add_pair_contact, add_segment_contact, add_wall_contact, new_contacts, settle_resting,
                       solve_contacts)
 
@@ -192,11 +193,12 @@ def sample(bodies, t, positions, velocities):
 
 
 EventLoop = namedtuple("EventLoop", ["bodies", "grid", "env", "queue", "contacts", "done", "listed", "involved",
-                                     "base", "t_end"])
+                                     "base", "t_end", "supports", "everyone"])
 EventLoop.__doc__ = """Everything the event loop keeps from one block of frames to the next, so that a run
 streamed in blocks of any size is the same run: bodies, grid, env; the event queue; scratch
 (contacts, done, listed, involved); base (event key packing); t_end (the run's end: nothing
-later is predicted)."""
+later is predicted); supports (what resting bodies' supports push with, support.py);
+everyone (n,) the indices 0 .. n - 1."""
 
 
 def start_event_loop(positions, velocities, gravity, radii, masses, box, restitution, segments, t_end,
@@ -217,7 +219,7 @@ def start_event_loop(positions, velocities, gravity, radii, masses, box, restitu
     done = np.zeros(n, np.bool_)
     queue = schedule_all(bodies, grid, env, new_queue(16 * (n + 1)), 0.0, t_end, base, done)
     return EventLoop(bodies, grid, env, queue, new_contacts(4 * n + 16), done, np.zeros(n, np.bool_),
-                     np.empty(n, np.int64), base, float(t_end))
+                     np.empty(n, np.int64), base, float(t_end), new_supports(n), np.arange(n))
 
 
 @njit(cache=True, error_model="numpy")
@@ -228,6 +230,7 @@ def run(loop, frame_dt, first, count, budget, positions, velocities, counts, ove
     queue, which the caller keeps in the loop."""
     bodies, grid, env, queue, contacts = loop.bodies, loop.grid, loop.env, loop.queue, loop.contacts
     done, listed, involved, base, t_end = loop.done, loop.listed, loop.involved, loop.base, loop.t_end
+    supports, everyone = loop.supports, loop.everyone
     log = new_log(1024)
     for row in range(count):
         t_frame = (first + row) * frame_dt
@@ -251,9 +254,12 @@ def run(loop, frame_dt, first, count, budget, positions, velocities, counts, ove
                 apply_bookkeeping(bodies, grid, env, kind, i, j, t)
                 involved[0], n_involved = i, 1
                 processed += 1
+            log = note_supports(log, bodies, env, supports, involved, n_involved, t)
             queue = reschedule(bodies, grid, env, queue, involved, n_involved, t, t_end, base, done)
+        log = log_frame_supports(log, bodies, env, supports, t_frame)
         if over_budget[row]:
             finish_frame_discretely(bodies, grid, env, t_frame)
+            log = note_supports(log, bodies, env, supports, everyone, everyone.shape[0], t_frame)
             queue = schedule_all(bodies, grid, env, queue, t_frame, t_end, base, done)
         sample(bodies, t_frame, positions[row], velocities[row])
     return log, queue

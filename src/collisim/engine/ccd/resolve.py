@@ -194,4 +194,5 @@ def settle_resting(bodies, env, contacts):
         if comes_to_rest(env, bodies.radius[i], rebound, nx, ny):
             support = contacts.other[k] if contacts.kind[k] == WALL else N_WALLS + contacts.other[k]
             rest_on(bodies, env, i, support, nx, ny)
-            contacts.impulse[k] += bodies.mass[i] * max(rebound, 0.0)
+            # the rebound it would have had is not given: the support pushed that much less
+            contacts.impulse[k] -= bodies.mass[i] * max(rebound, 0.0)
