@@ -28,8 +28,9 @@ bounce less than a billionth of its radius rests on its wall or segment
 (bodies.py), and contacts between particles under gravity never bounce lower
 than an invisible micro-bounce (resolve.py). Anything that still needs more
 than `max_events_per_frame` events in one frame sets budget_exceeded[f], and
-the frame is finished by a discrete projection step (fallback.py), so a run
-never hangs and nothing leaves the box.
+the frame is finished by one discrete step that keeps the energy and leaves no
+overlap (fallback.py), or the run stops with a clear error: a run never hangs
+and never silently loses energy.
 
 Compiled code. Every function of the package is compiled by numba with
 error_model="numpy": a division by zero gives inf or nan, as in NumPy, instead
@@ -56,7 +57,7 @@ from ...model.kinds import N_WALLS, PAIR, SEGMENT, WALL
 from ..eventlog import append, new_log, with_room
 from .bodies import FREE, Bodies, Environment, advance, position_at, release, velocity_at
 from .eventqueue import CELL, is_current, key_parts, new_queue, pop, reserve
-from .fallback import finish_frame_discretely
+from .fallback import FINISHED, failure_message, finish_frame_discretely
 from ...broadphase.cells import assign_all, make_grid, move
 from .predict import predict_pairs, predict_solo
 from .support import log_frame_supports, new_supports, note_supports
@@ -223,11 +224,13 @@ def start_event_loop(positions, velocities, gravity, radii, masses, box, restitu
 
 
 @njit(cache=True, error_model="numpy")
-def run(loop, frame_dt, first, count, budget, positions, velocities, counts, over_budget):
+def run(loop, frame_dt, first, count, budget, positions, velocities, counts, fallback):
     """Frames first .. first + count - 1 of the run (frame f at t = f·frame_dt). Fills
-    positions, velocities (count, n, 2), counts (count, 3) per kind and over_budget (count,);
-    returns the EventLog of their collisions in processing order and the (possibly larger)
-    queue, which the caller keeps in the loop."""
+    positions, velocities (count, n, 2), counts (count, 3) per kind and fallback (count,) int8:
+    0 for a frame done exactly, else how the budget's fallback step ended (fallback.FINISHED;
+    JAMMED or NO_ENERGY stop the run there: later rows are left as they were). Returns the
+    EventLog of their collisions in processing order and the (possibly larger) queue, which
+    the caller keeps in the loop."""
     bodies, grid, env, queue, contacts = loop.bodies, loop.grid, loop.env, loop.queue, loop.contacts
     done, listed, involved, base, t_end = loop.done, loop.listed, loop.involved, loop.base, loop.t_end
     supports, everyone = loop.supports, loop.everyone
@@ -240,7 +243,7 @@ def run(loop, frame_dt, first, count, budget, positions, velocities, counts, ove
                 pop(queue)
                 continue
             if processed >= budget:
-                over_budget[row] = True
+                fallback[row] = FINISHED
                 break
             t, key = pop(queue)[:2]
             kind, i, j = key_parts(key, base)
@@ -257,8 +260,10 @@ def run(loop, frame_dt, first, count, budget, positions, velocities, counts, ove
             log = note_supports(log, bodies, env, supports, involved, n_involved, t)
             queue = reschedule(bodies, grid, env, queue, involved, n_involved, t, t_end, base, done)
         log = log_frame_supports(log, bodies, env, supports, t_frame)
-        if over_budget[row]:
-            finish_frame_discretely(bodies, grid, env, t_frame)
+        if fallback[row]:
+            fallback[row] = finish_frame_discretely(bodies, grid, env, t_frame)
+            if fallback[row] != FINISHED:
+                break
             log = note_supports(log, bodies, env, supports, everyone, everyone.shape[0], t_frame)
             queue = schedule_all(bodies, grid, env, queue, t_frame, t_end, base, done)
         sample(bodies, t_frame, positions[row], velocities[row])
@@ -301,13 +306,15 @@ def simulate_events(positions, velocities, gravity, radii, masses, box, restitut
                             n_frames * frame_dt, separate_large)
     n, samples = len(loop.bodies.pos), n_frames + 1
     out_positions, out_velocities = np.empty((samples, n, 2)), np.empty((samples, n, 2))
-    counts, over_budget = np.zeros((samples, 3), np.int64), np.zeros(samples, np.bool_)
+    counts, fallback = np.zeros((samples, 3), np.int64), np.zeros(samples, np.int8)
     sample(loop.bodies, 0.0, out_positions[0], out_velocities[0])
     log, _ = run(loop, float(frame_dt), 1, int(n_frames), int(max_events_per_frame), out_positions[1:],
-                 out_velocities[1:], counts[1:], over_budget[1:])
+                 out_velocities[1:], counts[1:], fallback[1:])
+    if fallback.max() > FINISHED:
+        raise RuntimeError(failure_message(fallback, int(max_events_per_frame)))
     time, kind, i, j, impulse, point = sorted_log(log)
     return CCDResult(out_positions, out_velocities, time, kind, i, j, impulse, point, counts[:, WALL].copy(),
-                     counts[:, PAIR].copy(), counts[:, SEGMENT].copy(), over_budget)
+                     counts[:, PAIR].copy(), counts[:, SEGMENT].copy(), fallback > 0)
 
 
 def sorted_log(log) -> tuple:

@@ -16,6 +16,7 @@ from ...model.trajectory import Events
 from ..discrete import new_frames
 from ..profile import Profile
 from .events import run, sorted_log, start_event_loop
+from .fallback import FALLBACK_NOTE, FINISHED, failure_message
 
 
 def map_events(events: Events, own_segments: int) -> Events:
@@ -52,17 +53,19 @@ class CCDStepper:
         """Advance `count` frames: (Frames, Events)."""
         w = self.world
         out = new_frames(count, w.n)
-        over_budget = np.zeros(count, np.bool_)
+        fallback = np.zeros(count, np.int8)
         start = time.perf_counter()
         log, queue = run(self.loop, self.frame_dt, self._frames_done + 1, count, self.max_events, out.positions,
-                         out.velocities, out.collisions, over_budget)
+                         out.velocities, out.collisions, fallback)
         self.loop = self.loop._replace(queue=queue)
         self.profile.add("events", time.perf_counter() - start)
-        out.approximate[:] = over_budget
-        if over_budget.any() and not self.warnings:
-            self.warnings.append(f"more than {self.max_events} events in a frame (resting contact or inelastic "
-                                 f"collapse), first at frame {self._frames_done + 1 + int(np.argmax(over_budget))}; "
-                                 f"such frames are finished by an approximate step that can lose energy")
+        if fallback.max() > FINISHED:
+            raise RuntimeError(failure_message(np.concatenate([np.zeros(self._frames_done + 1, np.int8), fallback]),
+                                               self.max_events))
+        out.approximate[:] = fallback > 0
+        if fallback.any() and not self.warnings:
+            self.warnings.append(f"more than {self.max_events} events in a frame, first at frame "
+                                 f"{self._frames_done + 1 + int(np.argmax(fallback))}; {FALLBACK_NOTE}")
         # circles turn freely between contacts, and ccd's contacts have no torque
         elapsed = (self._frames_done + np.arange(1, count + 1)) * self.frame_dt
         out.angles[:] = w.angles + np.outer(elapsed, w.angular_velocities)
