@@ -1,4 +1,4 @@
-"""ccd over its event budget: frames finished by the energy-safe discrete step (fallback.py)."""
+"""ccd over its event budget: frames whose last events are skipped, the state kept exact (fallback.py)."""
 import numpy as np
 import pytest
 
@@ -54,7 +54,7 @@ def test_the_run_says_what_the_fallback_does(monkeypatch):
     from collisim.engine.ccd import CCDStepper
     monkeypatch.setitem(engine.METHODS, "ccd", lambda s: CCDStepper(s.world, s.fps, s.frames, max_events_per_frame=3))
     scene = collisim.load_scene("particles_250").replace(method="ccd", seconds=0.25)
-    with pytest.warns(UserWarning, match="energy kept") as caught:
+    with pytest.warns(UserWarning, match="energy exactly kept") as caught:
         traj = collisim.simulate(scene)
     assert len(caught) == 1 and "can lose energy" not in str(caught[0].message)
     ke = traj.kinetic_energy()

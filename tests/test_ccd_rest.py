@@ -55,3 +55,45 @@ def test_a_segment_carries_a_ball_at_rest_and_a_vee_carries_a_wedged_ball():
         ny = segment_contact(*traj.positions[-1, 0], vee[j])[1]
         lift += impulse * ny
     assert lift == pytest.approx(world.masses[0] * G * 2.0, rel=1e-9)
+
+
+def test_tc_model_makes_collisions_within_tc_of_the_last_elastic():
+    from collisim.engine.ccd.events import simulate_events
+    # a ball between two walls, e = 0.5: its first hit halves its speed, and with tc = 10 s every
+    # later hit (each within 10 s of the previous one) is elastic
+    common = ([[5.0, 5.0]], [[8.0, 0.0]], (0.0, 0.0), [0.5], [1.0], (0.0, 0.0, 10.0, 10.0), 0.5, None, 0.1, 80)
+    with_tc = simulate_events(*common, tc=10.0)
+    assert len(with_tc.time) >= 4
+    np.testing.assert_allclose(np.abs(with_tc.velocities[-1, 0, 0]), 4.0, rtol=1e-12)
+    without = simulate_events(*common)
+    assert np.abs(without.velocities[-1, 0, 0]) <= 1.0   # 8 -> 4 -> 2 -> 1: every hit halves it
+
+
+def test_contact_model_parameters_are_checked():
+    world = collisim.World(positions=[[5.0, 1.0]], box=(0, 0, 10, 10), gravity=(0, -G), restitution=0.5)
+    with pytest.raises(ValueError, match="rest_speed"):
+        collisim.Scene(world=world, method="ccd", rest_speed=-1.0)
+    with pytest.raises(ValueError, match="tc"):
+        collisim.Scene(world=world, method="ccd", tc="1")
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(reason="sleeping is experimental: from frame 70 two balls overlap by up to 8 % of r "
+                          "(engine/ccd/sleep.py, status)", strict=False)
+def test_a_small_inelastic_pile_falls_asleep_without_overlap():
+    """24 balls, e = 0.5, dropped into a box 6 diameters wide: by 5 s every one is asleep."""
+    rng = np.random.default_rng(3)
+    n = 24
+    x = (np.arange(n) % 6 + 0.5) * (6.0 / 6) + rng.uniform(-0.05, 0.05, n)
+    y = 1.0 + (np.arange(n) // 6) * 1.2
+    world = collisim.World(np.column_stack([x, y]), radii=0.45, box=(0, 0, 6, 8), gravity=(0, -G), restitution=0.5)
+    with pytest.warns(UserWarning, match="approximate"):   # not yet free of event storms (see below)
+        traj = collisim.simulate(collisim.Scene(world=world, fps=60, seconds=6.0, method="ccd", rest_speed=0.094))
+    # Measured: 13 of 360 frames go over the event budget while the pile settles (inelastic
+    # collapse among awake bodies); they keep their exact state and are flagged.
+    assert traj.approximate.sum() <= 40
+    # asleep: every body still, exactly
+    assert np.all(traj.velocities[-30:] == 0.0)
+    p = traj.positions[-1]
+    d = np.hypot(*(p[:, None] - p[None]).T)[np.triu_indices(n, 1)]
+    assert d.min() >= 0.9 * (1 - 1e-9)

@@ -110,6 +110,9 @@ def predict_solo(bodies, grid, env, queue, i, t_now, t_end, base):
     Particle i must be current (t_ref = t_now). Events after t_end are not queued.
     """
     limit = t_end - t_now
+    if bodies.asleep[i]:   # frozen: nothing happens to it on its own
+        bodies.horizon[i] = t_end
+        return
     best = (limit, CELL, -1)
     t, direction = next_cell_crossing(bodies, grid, i, limit)
     best = _earlier(t, CELL, direction, *best)

@@ -16,7 +16,7 @@ from ...model.trajectory import Events
 from ..discrete import new_frames
 from ..profile import Profile
 from .events import run, sorted_log, start_event_loop
-from .fallback import FALLBACK_NOTE, FINISHED, failure_message
+from .fallback import FALLBACK_NOTE
 
 
 def map_events(events: Events, own_segments: int) -> Events:
@@ -35,7 +35,7 @@ class CCDStepper:
     broadphase = ""   # the event loop finds its own candidates
 
     def __init__(self, world, fps: float, frames: int, profile: Profile | None = None,
-                 max_events_per_frame: int | None = None):
+                 max_events_per_frame: int | None = None, rest_speed: float | None = None, tc: float = 0.0):
         if not world.uniform_acceleration:
             raise ValueError("method ccd needs one uniform gravity for all particles")
         self.world = world
@@ -44,7 +44,8 @@ class CCDStepper:
         self.max_events = max(100_000, 64 * world.n) if max_events_per_frame is None else max_events_per_frame
         gravity = world.accelerations[0] if world.n else world.gravity
         self.loop = start_event_loop(world.positions, world.velocities, gravity, world.radii, world.masses,
-                                     world.box, world.restitution, world.level_segments, frames * self.frame_dt)
+                                     world.box, world.restitution, world.level_segments, frames * self.frame_dt,
+                                     rest_speed=rest_speed, tc=tc)
         self.profile = profile or Profile()
         self.warnings = []
         self._frames_done = 0
@@ -53,19 +54,16 @@ class CCDStepper:
         """Advance `count` frames: (Frames, Events)."""
         w = self.world
         out = new_frames(count, w.n)
-        fallback = np.zeros(count, np.int8)
+        over_budget = np.zeros(count, np.bool_)
         start = time.perf_counter()
         log, queue = run(self.loop, self.frame_dt, self._frames_done + 1, count, self.max_events, out.positions,
-                         out.velocities, out.collisions, fallback)
+                         out.velocities, out.collisions, over_budget)
         self.loop = self.loop._replace(queue=queue)
         self.profile.add("events", time.perf_counter() - start)
-        if fallback.max() > FINISHED:
-            raise RuntimeError(failure_message(np.concatenate([np.zeros(self._frames_done + 1, np.int8), fallback]),
-                                               self.max_events))
-        out.approximate[:] = fallback > 0
-        if fallback.any() and not self.warnings:
+        out.approximate[:] = over_budget
+        if over_budget.any() and not self.warnings:
             self.warnings.append(f"more than {self.max_events} events in a frame, first at frame "
-                                 f"{self._frames_done + 1 + int(np.argmax(fallback))}; {FALLBACK_NOTE}")
+                                 f"{self._frames_done + 1 + int(np.argmax(over_budget))}; {FALLBACK_NOTE}")
         # circles turn freely between contacts, and ccd's contacts have no torque
         elapsed = (self._frames_done + np.arange(1, count + 1)) * self.frame_dt
         out.angles[:] = w.angles + np.outer(elapsed, w.angular_velocities)
