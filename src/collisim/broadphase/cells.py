@@ -16,6 +16,15 @@ particle tests only the segments listed in its own cell.
 
 Cell membership is a doubly linked list per cell (head, next, prev), so moving
 a particle is O(1).
+
+Mixed sizes. Sizing every cell by the largest diameter lets one large disk among
+many small ones put hundreds of small ones in each cell. So a few large bodies
+may be kept *apart* (choose_apart): the cells are sized by the others, the large
+ones are filed in no cell list (they still have a cell, whose crossings are
+their events), and a pair involving one is found from both sides: a body tests
+every large body (few) whose cell is within reach of its own, and a large body
+tests the bodies of the block of cells its radius reaches (reach_cells). Results
+are the same events as with cells sized by the largest body.
 """
 from collections import namedtuple
 
@@ -26,33 +35,73 @@ from ..geometry.segment import segment_meets_rect
 from ..statics.segment_index import build_segment_index, segments_near
 
 CellGrid = namedtuple("CellGrid", ["x0", "y0", "cell_w", "cell_h", "nx", "ny", "cell", "head", "next", "prev",
-                                   "segment_start", "segment_index"])
+                                   "segment_start", "segment_index", "apart", "reach"])
 CellGrid.__doc__ = """x0, y0: the box's lower left corner; cell_w, cell_h: cell size; nx, ny: cells per axis.
 cell (n,): each particle's cell (cy * nx + cx); head (nx*ny,), next (n,), prev (n,): linked lists (-1 = none).
 segment_start (nx*ny + 1,), segment_index (k,): the segments near cell c are
-segment_index[segment_start[c]:segment_start[c + 1]]."""
+segment_index[segment_start[c]:segment_start[c + 1]] (the segments of bodies kept apart are all).
+apart (L,): the large bodies kept out of the cell lists, in index order; reach (n,): how many
+cells each side of its own a body's pairs may lie in (1 for the bodies in the lists, >= 2 for
+those kept apart)."""
+
+# At most this many bodies are kept apart: every other body tests each of them at its events.
+MOST_APART = 64
+# ... and only when that at least halves the bodies a typical event tests.
+APART_GAIN = 2.0
 
 # Cells are made this much wider than a diameter, so that a centre which is a few
 # rounding errors outside its cell still only touches its 3 × 3 block.
 CELL_MARGIN = 1e-6
 
 
-def make_grid(box, radii, segments):
+def _cell_side(area, n, radius):
+    """Cells about one particle's share of the area, never narrower than 2 radius."""
+    return max(2.0 * radius * (1.0 + CELL_MARGIN), np.sqrt(area / max(n, 1)))
+
+
+def choose_apart(box, radii) -> np.ndarray:
+    """The largest bodies to keep apart (index order): the count L <= MOST_APART minimising
+    the bodies an event tests, about 9 n side(L)² / area of the 3 × 3 block plus the L kept
+    apart, where side(L) is the cell side the others need; none unless it gains APART_GAIN."""
+    n = len(radii)
+    if n < 2:
+        return np.zeros(0, np.int64)
+    area = (box[2] - box[0]) * (box[3] - box[1])
+    largest_first = np.argsort(-radii, kind="stable")
+    counts = np.arange(min(MOST_APART, n - 1) + 1)
+    sides = np.array([_cell_side(area, n, radii[largest_first[count]]) for count in counts])
+    tested = 9.0 * n * sides ** 2 / area + counts
+    best = int(np.argmin(tested))
+    if best == 0 or tested[best] * APART_GAIN > tested[0]:
+        return np.zeros(0, np.int64)
+    return np.sort(largest_first[:best]).astype(np.int64)
+
+
+def make_grid(box, radii, segments, separate_large=True):
     """A grid for particles of these radii in box (xmin, ymin, xmax, ymax).
 
     Cells are about as large as one particle's share of the area (so about one
-    particle per cell), but never narrower than the largest diameter.
+    particle per cell), but never narrower than the largest diameter of the bodies in
+    the cell lists; with separate_large, a few large bodies may be kept apart (module
+    docstring).
     """
     n = len(radii)
     width, height = box[2] - box[0], box[3] - box[1]
-    smallest = 2.0 * radii.max() * (1.0 + CELL_MARGIN) if n else 0.0
-    side = max(smallest, np.sqrt(width * height / max(n, 1)))
+    apart = choose_apart(box, radii) if separate_large else np.zeros(0, np.int64)
+    listed_radii = np.delete(radii, apart)
+    largest = listed_radii.max() if len(listed_radii) else 0.0
+    side = _cell_side(width * height, n, largest)
     nx, ny = max(1, int(width // side)), max(1, int(height // side))
-    grid = CellGrid(float(box[0]), float(box[1]), width / nx, height / ny, nx, ny,
+    cell_w, cell_h = width / nx, height / ny
+    reach = np.ones(n, np.int64)
+    # a large body and another within one cell side of it: centres up to r + largest apart
+    # (at least 2, which is how a body kept apart is told from the others)
+    reach[apart] = np.maximum(np.ceil((radii[apart] + largest) * (1.0 + CELL_MARGIN) / min(cell_w, cell_h)), 2)
+    grid = CellGrid(float(box[0]), float(box[1]), cell_w, cell_h, nx, ny,
                     np.full(n, -1, np.int64), np.full(nx * ny, -1, np.int64), np.full(n, -1, np.int64),
-                    np.full(n, -1, np.int64), np.zeros(nx * ny + 1, np.int64), np.zeros(0, np.int64))
-    reach = radii.max() * (1.0 + CELL_MARGIN) if n else 0.0
-    start, listed = _register_segments(grid, segments, build_segment_index(segments, box), reach)
+                    np.full(n, -1, np.int64), np.zeros(nx * ny + 1, np.int64), np.zeros(0, np.int64), apart, reach)
+    start, listed = _register_segments(grid, segments, build_segment_index(segments, box),
+                                       largest * (1.0 + CELL_MARGIN))
     return grid._replace(segment_start=start, segment_index=listed)
 
 
@@ -100,6 +149,23 @@ def cell_at(grid, x, y):
 
 
 @njit(cache=True, error_model="numpy")
+def is_apart(grid, i):
+    """Is body i one of the large bodies kept out of the cell lists? (Their reach is > 1.)"""
+    return grid.reach[i] > 1
+
+
+@njit(cache=True, error_model="numpy")
+def move(grid, i, c):
+    """Body i (in cell grid.cell[i] or none) now belongs to cell c."""
+    if is_apart(grid, i):
+        grid.cell[i] = c
+        return
+    if grid.cell[i] >= 0:
+        unlink(grid, i)
+    link(grid, i, c)
+
+
+@njit(cache=True, error_model="numpy")
 def link(grid, i, c):
     """Put particle i (in no list) at the front of cell c's list."""
     first = grid.head[c]
@@ -128,7 +194,8 @@ def assign_all(grid, positions):
     """Rebuild every cell list from positions (n, 2), particles in index order."""
     grid.head[:] = -1
     for i in range(positions.shape[0] - 1, -1, -1):
-        link(grid, i, cell_at(grid, positions[i, 0], positions[i, 1]))
+        grid.cell[i] = -1
+        move(grid, i, cell_at(grid, positions[i, 0], positions[i, 1]))
 
 
 @njit(cache=True, error_model="numpy")
@@ -137,5 +204,17 @@ def neighbour_block(grid, c):
     row ranges (cx_lo, cx_hi, cy_lo, cy_hi): its cells are cy * nx + cx for cy in
     range(cy_lo, cy_hi), cx in range(cx_lo, cx_hi). (Plain numbers rather than an
     array of cells: this is asked for at every event, and an array would be allocated.)"""
+    return reach_block(grid, c, 1)
+
+
+@njit(cache=True, error_model="numpy")
+def reach_block(grid, c, reach):
+    """The (2 reach + 1)² block of cells around cell c, as neighbour_block."""
     cx, cy = c % grid.nx, c // grid.nx
-    return max(cx - 1, 0), min(cx + 2, grid.nx), max(cy - 1, 0), min(cy + 2, grid.ny)
+    return max(cx - reach, 0), min(cx + reach + 1, grid.nx), max(cy - reach, 0), min(cy + reach + 1, grid.ny)
+
+
+@njit(cache=True, error_model="numpy")
+def within_reach(grid, c, d, reach):
+    """Are cells c and d at most `reach` cells apart along each axis?"""
+    return abs(c % grid.nx - d % grid.nx) <= reach and abs(c // grid.nx - d // grid.nx) <= reach

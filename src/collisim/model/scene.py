@@ -63,6 +63,12 @@ class Scene:
     method: str = "discrete"
     substeps: int = 1
     broadphase: str = "auto"
+    # ccd's contact model (engine/ccd/sleep.py, resolve.py): below rest_speed a body held still
+    # by what it touches falls asleep (None or 0: never — sleeping is experimental, see
+    # sleep.py); a collision within tc seconds of a body's last one is elastic (Luding and
+    # McNamara's TC model; 0: off)
+    rest_speed: Optional[float] = None
+    tc: float = 0.0
     name: str = "scene"
     description: str = ""
     render: RenderSettings = field(default_factory=RenderSettings)
@@ -95,6 +101,9 @@ class Scene:
         if isinstance(self.substeps, bool) or not isinstance(self.substeps, (int, np.integer)) or self.substeps < 1:
             raise ValueError(f"substeps must be a whole number >= 1, got {self.substeps!r}")
         self.substeps = int(self.substeps)
+        if self.rest_speed is not None:
+            self.rest_speed = validate.number("rest_speed", self.rest_speed, low=0.0, high=np.inf)
+        self.tc = validate.number("tc", self.tc, low=0.0, high=np.inf)
         if self.broadphase not in ("auto",) + BROAD_PHASES:
             raise ValueError(f"unknown broad phase {self.broadphase!r}; choose one of: auto, "
                              f"{', '.join(BROAD_PHASES)}")

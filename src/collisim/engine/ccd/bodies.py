@@ -25,18 +25,22 @@ from collections import namedtuple
 from numba import njit
 
 Bodies = namedtuple("Bodies", ["pos", "vel", "acc", "t_ref", "radius", "mass", "support", "wedge",
-                               "support_normal", "counter", "horizon"])
+                               "support_normal", "counter", "horizon", "asleep", "last_hit"])
 Bodies.__doc__ = """pos, vel, acc (n, 2): state at t_ref (n,); radius, mass (n,).
 support (n,) int64: FREE, a wall index, or N_WALLS + segment index for a resting particle;
 wedge (n,) int64: its second support when wedged, else FREE; support_normal (n, 2): the
 first support's unit normal, pointing at the particle.
 counter (n,) int64: events so far, to invalidate older predictions.
 horizon (n,) float64: time of the particle's next predicted one-particle event (wall, segment,
-cell crossing), after which all its predictions are redone anyway."""
+cell crossing), after which all its predictions are redone anyway.
+asleep (n,) bool: frozen at rest (sleep.py); last_hit (n,): the time of its last collision
+(for the TC model, resolve.py)."""
 
-Environment = namedtuple("Environment", ["box", "segments", "gravity", "restitution"])
+Environment = namedtuple("Environment", ["box", "segments", "gravity", "restitution", "rest_speed", "tc"])
 Environment.__doc__ = """box (4,): xmin, ymin, xmax, ymax; segments (m, 4): x0, y0, x1, y1;
-gravity (2,); restitution: e in [0, 1]."""
+gravity (2,); restitution: e in [0, 1]; rest_speed (n,): below it a body held still by its
+supports falls asleep (0: never, as with e = 1; sleep.py); tc: a collision within tc of either
+body's last one is elastic (Luding and McNamara's TC model; 0: off)."""
 
 FREE = -1
 REST_HEIGHT = 1e-9
@@ -117,3 +121,24 @@ def keep_or_release(bodies, env, i):
     across = bodies.vel[i, 0] * bodies.support_normal[i, 0] + bodies.vel[i, 1] * bodies.support_normal[i, 1]
     if abs(across) > 1e-12 * (abs(bodies.vel[i, 0]) + abs(bodies.vel[i, 1])):
         release(bodies, env, i)
+
+
+@njit(cache=True, error_model="numpy")
+def fall_asleep(bodies, i):
+    """Particle i (current) is frozen: no velocity, no acceleration, no events of its own."""
+    bodies.vel[i, 0] = bodies.vel[i, 1] = bodies.acc[i, 0] = bodies.acc[i, 1] = 0.0
+    bodies.asleep[i] = True
+
+
+@njit(cache=True, error_model="numpy")
+def wake(bodies, env, i):
+    """Particle i (current, asleep) moves again: the acceleration of its resting state."""
+    bodies.asleep[i] = False
+    bodies.acc[i, 0], bodies.acc[i, 1] = env.gravity[0], env.gravity[1]
+    if bodies.wedge[i] != FREE:
+        bodies.acc[i, 0] = bodies.acc[i, 1] = 0.0
+    elif bodies.support[i] != FREE:
+        nx, ny = bodies.support_normal[i, 0], bodies.support_normal[i, 1]
+        gn = env.gravity[0] * nx + env.gravity[1] * ny
+        bodies.acc[i, 0] -= gn * nx
+        bodies.acc[i, 1] -= gn * ny

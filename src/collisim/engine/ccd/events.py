@@ -28,8 +28,9 @@ bounce less than a billionth of its radius rests on its wall or segment
 (bodies.py), and contacts between particles under gravity never bounce lower
 than an invisible micro-bounce (resolve.py). Anything that still needs more
 than `max_events_per_frame` events in one frame sets budget_exceeded[f], and
-the frame is finished by a discrete projection step (fallback.py), so a run
-never hangs and nothing leaves the box.
+the rest of the frame is skipped: the bodies keep their exact state at the last
+event processed while the clock jumps to the frame time (fallback.py), so a run
+never hangs, nothing overlaps and no energy is lost.
 
 Compiled code. Every function of the package is compiled by numba with
 error_model="numpy": a division by zero gives inf or nan, as in NumPy, instead
@@ -56,11 +57,14 @@ from ...model.kinds import N_WALLS, PAIR, SEGMENT, WALL
 from ..eventlog import append, new_log, with_room
 from .bodies import FREE, Bodies, Environment, advance, position_at, release, velocity_at
 from .eventqueue import CELL, is_current, key_parts, new_queue, pop, reserve
-from .fallback import finish_frame_discretely
-from ...broadphase.cells import assign_all, link, make_grid, unlink
+from .fallback import skip_to_frame
+from ...broadphase.cells import assign_all, make_grid, move
 from .predict import predict_pairs, predict_solo
-from .resolve import (add_pair_contact, add_segment_contact, add_wall_contact, new_contacts, settle_resting,
-                      solve_contacts)
+from .support import log_frame_supports, new_supports, note_supports
+from .sleep import default_rest_speed, doze, doze_all, wake_up
+from ...geometry.circle import line_of_centres
+from .resolve import (add_pair_contact, add_segment_contact, add_wall_contact, mark_hits, new_contacts,
+                      settle_resting, solve_contacts)
 
 
 class CCDResult(NamedTuple):
@@ -131,10 +135,11 @@ def _involve(bodies, i, t, involved, count, listed):
 
 
 @njit(cache=True, error_model="numpy")
-def collect_collisions(bodies, env, queue, contacts, t, key, base, involved, listed):
+def collect_collisions(bodies, grid, env, queue, contacts, t, key, base, involved, listed):
     """Turn the collision `key` at time t (just popped) and every other current collision
     at exactly the same time into contacts, taking them off the queue. Fills involved
-    with the particles concerned and returns their number."""
+    with the particles concerned (and those a hard hit on a sleeper wakes) and returns
+    their number."""
     contacts.count[0] = 0
     count = 0
     while True:
@@ -142,6 +147,7 @@ def collect_collisions(bodies, env, queue, contacts, t, key, base, involved, lis
         count = _involve(bodies, i, t, involved, count, listed)
         if kind == PAIR:
             count = _involve(bodies, j, t, involved, count, listed)
+            count = _wake_if_hit_hard(bodies, grid, env, i, j, t, involved, count, listed)
             add_pair_contact(bodies, env, contacts, i, j)
         elif kind == WALL:
             add_wall_contact(bodies, env, contacts, i, j)
@@ -162,13 +168,29 @@ def collect_collisions(bodies, env, queue, contacts, t, key, base, involved, lis
 
 
 @njit(cache=True, error_model="numpy")
+def _wake_if_hit_hard(bodies, grid, env, i, j, t, involved, count, listed):
+    """A pair (current) where one sleeps: a hit faster than the sleeper's rest speed wakes it
+    (and what rests on it, sleep.py). Returns the new count of involved particles."""
+    if bodies.asleep[i] == bodies.asleep[j]:
+        return count
+    sleeper = i if bodies.asleep[i] else j
+    nx, ny, _ = line_of_centres(bodies.pos, i, j)
+    approach = (bodies.vel[i, 0] - bodies.vel[j, 0]) * nx + (bodies.vel[i, 1] - bodies.vel[j, 1]) * ny
+    if approach > env.rest_speed[sleeper]:
+        count = wake_up(bodies, grid, env, sleeper, t, involved, count, listed)
+    return count
+
+
+@njit(cache=True, error_model="numpy")
 def record_contacts(log, contacts, t, frame_counts):
-    """Log the contacts that delivered an impulse and count them by kind."""
+    """Log the contacts that delivered an impulse and count them by kind (a pair as i < j)."""
     log = with_room(log, contacts.count[0])
     for k in range(contacts.count[0]):
         if contacts.impulse[k] > 0.0:
-            append(log, t, contacts.kind[k], contacts.i[k], contacts.other[k], contacts.impulse[k],
-                   contacts.x[k], contacts.y[k])
+            i, other = contacts.i[k], contacts.other[k]
+            if contacts.kind[k] == PAIR and other < i:   # a contact with a sleeper is the awake one's
+                i, other = other, i
+            append(log, t, contacts.kind[k], i, other, contacts.impulse[k], contacts.x[k], contacts.y[k])
             frame_counts[contacts.kind[k]] += 1
     return log
 
@@ -178,9 +200,7 @@ def apply_bookkeeping(bodies, grid, env, kind, i, j, t):
     """A cell crossing (move i to the next cell in direction j) or a slide off a segment's end."""
     advance(bodies, i, t)
     if kind == CELL:
-        destination = grid.cell[i] + (-1, 1, -grid.nx, grid.nx)[j]
-        unlink(grid, i)
-        link(grid, i, destination)
+        move(grid, i, grid.cell[i] + (-1, 1, -grid.nx, grid.nx)[j])
     else:
         release(bodies, env, i)
 
@@ -194,15 +214,19 @@ def sample(bodies, t, positions, velocities):
 
 
 EventLoop = namedtuple("EventLoop", ["bodies", "grid", "env", "queue", "contacts", "done", "listed", "involved",
-                                     "base", "t_end"])
+                                     "base", "t_end", "supports"])
 EventLoop.__doc__ = """Everything the event loop keeps from one block of frames to the next, so that a run
 streamed in blocks of any size is the same run: bodies, grid, env; the event queue; scratch
 (contacts, done, listed, involved); base (event key packing); t_end (the run's end: nothing
-later is predicted)."""
+later is predicted); supports (what resting bodies' supports push with, support.py)."""
 
 
-def start_event_loop(positions, velocities, gravity, radii, masses, box, restitution, segments, t_end) -> EventLoop:
-    """A loop at t = 0 with every event up to t_end predicted (inputs checked and copied)."""
+def start_event_loop(positions, velocities, gravity, radii, masses, box, restitution, segments, t_end,
+                     separate_large=True, rest_speed=None, tc=0.0) -> EventLoop:
+    """A loop at t = 0 with every event up to t_end predicted (inputs checked and copied).
+    separate_large=False sizes every cell by the largest body (broadphase/cells.py);
+    rest_speed (None: sleep.default_rest_speed, 0: never sleep) and tc (the TC model's time,
+    0: off) are the contact model's (sleep.py, resolve.py)."""
     positions, velocities, gravity, radii, masses, box, segments = _checked_inputs(
         positions, velocities, gravity, radii, masses, box, segments)
     if not 0.0 <= restitution <= 1.0:
@@ -210,28 +234,35 @@ def start_event_loop(positions, velocities, gravity, radii, masses, box, restitu
     n = len(positions)
     bodies = Bodies(positions, velocities, np.tile(gravity, (n, 1)), np.zeros(n), radii, masses,
                     np.full(n, FREE, np.int64), np.full(n, FREE, np.int64), np.zeros((n, 2)), np.zeros(n, np.int64),
-                    np.zeros(n))
-    env = Environment(box, segments, gravity, float(restitution))
-    grid = make_grid(box, radii, segments)
+                    np.zeros(n), np.zeros(n, np.bool_), np.full(n, -np.inf))
+    if rest_speed is None:
+        rest_speed = default_rest_speed(gravity, radii, restitution)
+    if not tc >= 0.0 or np.any(~(np.asarray(rest_speed) >= 0.0)):
+        raise ValueError(f"need rest_speed >= 0 and tc >= 0, got {rest_speed} and {tc}")
+    env = Environment(box, segments, gravity, float(restitution), np.broadcast_to(
+        np.asarray(rest_speed, np.float64), (n,)).copy(), float(tc))
+    grid = make_grid(box, radii, segments, separate_large)
     base = max(n, len(segments), N_WALLS) + 1
     done = np.zeros(n, np.bool_)
     queue = schedule_all(bodies, grid, env, new_queue(16 * (n + 1)), 0.0, t_end, base, done)
     return EventLoop(bodies, grid, env, queue, new_contacts(4 * n + 16), done, np.zeros(n, np.bool_),
-                     np.empty(n, np.int64), base, float(t_end))
+                     np.empty(n, np.int64), base, float(t_end), new_supports(n))
 
 
 @njit(cache=True, error_model="numpy")
 def run(loop, frame_dt, first, count, budget, positions, velocities, counts, over_budget):
     """Frames first .. first + count - 1 of the run (frame f at t = f·frame_dt). Fills
-    positions, velocities (count, n, 2), counts (count, 3) per kind and over_budget (count,);
-    returns the EventLog of their collisions in processing order and the (possibly larger)
-    queue, which the caller keeps in the loop."""
+    positions, velocities (count, n, 2), counts (count, 3) per kind and over_budget (count,)
+    (frames whose last events were skipped, fallback.py). Returns the EventLog of their
+    collisions in processing order and the (possibly larger) queue, which the caller keeps
+    in the loop."""
     bodies, grid, env, queue, contacts = loop.bodies, loop.grid, loop.env, loop.queue, loop.contacts
     done, listed, involved, base, t_end = loop.done, loop.listed, loop.involved, loop.base, loop.t_end
+    supports = loop.supports
     log = new_log(1024)
     for row in range(count):
         t_frame = (first + row) * frame_dt
-        processed = 0
+        processed, t_last = 0, 0.0
         while queue.size[0] > 0 and queue.time[0] <= t_frame:
             if not is_current(queue, 0, bodies.counter, base):
                 pop(queue)
@@ -240,21 +271,29 @@ def run(loop, frame_dt, first, count, budget, positions, velocities, counts, ove
                 over_budget[row] = True
                 break
             t, key = pop(queue)[:2]
+            t_last = t
             kind, i, j = key_parts(key, base)
             if kind <= SEGMENT:
-                n_involved = collect_collisions(bodies, env, queue, contacts, t, key, base, involved, listed)
+                n_involved = collect_collisions(bodies, grid, env, queue, contacts, t, key, base, involved, listed)
                 solve_contacts(bodies, contacts)
                 settle_resting(bodies, env, contacts)
+                doze(bodies, grid, env, involved, n_involved, t)
+                mark_hits(bodies, contacts, t)
                 log = record_contacts(log, contacts, t, counts[row])
                 processed += contacts.count[0]
             else:
                 apply_bookkeeping(bodies, grid, env, kind, i, j, t)
                 involved[0], n_involved = i, 1
                 processed += 1
+            log = note_supports(log, bodies, env, supports, involved, n_involved, t)
             queue = reschedule(bodies, grid, env, queue, involved, n_involved, t, t_end, base, done)
+        log = log_frame_supports(log, bodies, env, supports, t_frame)
         if over_budget[row]:
-            finish_frame_discretely(bodies, grid, env, t_frame)
+            skip_to_frame(bodies, env, t_last, t_frame)
             queue = schedule_all(bodies, grid, env, queue, t_frame, t_end, base, done)
+        fell = doze_all(bodies, grid, env, t_frame, involved)
+        if fell:
+            queue = reschedule(bodies, grid, env, queue, involved, fell, t_frame, t_end, base, done)
         sample(bodies, t_frame, positions[row], velocities[row])
     return log, queue
 
@@ -281,7 +320,7 @@ def _checked_inputs(positions, velocities, gravity, radii, masses, box, segments
 
 
 def simulate_events(positions, velocities, gravity, radii, masses, box, restitution, segments, frame_dt, n_frames,
-                    max_events_per_frame=100_000) -> CCDResult:
+                    max_events_per_frame=100_000, separate_large=True, rest_speed=None, tc=0.0) -> CCDResult:
     """Exact event-driven simulation of n circles, sampled every frame_dt for n_frames.
 
     positions, velocities (n, 2); gravity (2,) the same for every particle; radii,
@@ -292,7 +331,7 @@ def simulate_events(positions, velocities, gravity, radii, masses, box, restitut
     if max_events_per_frame < 1 or n_frames < 0 or not frame_dt > 0:
         raise ValueError("need max_events_per_frame >= 1, n_frames >= 0 and frame_dt > 0")
     loop = start_event_loop(positions, velocities, gravity, radii, masses, box, restitution, segments,
-                            n_frames * frame_dt)
+                            n_frames * frame_dt, separate_large, rest_speed, tc)
     n, samples = len(loop.bodies.pos), n_frames + 1
     out_positions, out_velocities = np.empty((samples, n, 2)), np.empty((samples, n, 2))
     counts, over_budget = np.zeros((samples, 3), np.int64), np.zeros(samples, np.bool_)

@@ -9,7 +9,10 @@ particle's *horizon*.
 A *pair* collision between i and j only needs to be looked for up to the
 earlier of the two horizons, for the same reason; and only with the particles
 of the 3 × 3 block of cells around i, because the cells are wider than a
-diameter and neither particle changes cell before its horizon.
+diameter and neither particle changes cell before its horizon. The few large
+bodies kept out of the cell lists (broadphase/cells.py) are tested from both
+sides: i tests each of them whose reach covers its cell, and a large body
+tests the block of cells its reach covers.
 """
 from numba import njit
 
@@ -18,7 +21,7 @@ from ...geometry.toi import time_to_point, time_to_segment, time_to_wall
 from ...model.kinds import N_WALLS, PAIR, SEGMENT, WALL
 from .bodies import FREE, position_at, rests_on, velocity_at
 from .eventqueue import CELL, SLIDE_OFF, event_key, push
-from ...broadphase.cells import cell_bounds, neighbour_block
+from ...broadphase.cells import cell_bounds, is_apart, reach_block, within_reach
 
 
 @njit(cache=True, error_model="numpy")
@@ -71,8 +74,10 @@ def next_segment_hit(bodies, grid, env, i, t_max):
     """(t, segment) of particle i's next impact with a segment near its cell."""
     best_t, best_segment = t_max, -1
     c = grid.cell[i]
-    for k in range(grid.segment_start[c], grid.segment_start[c + 1]):
-        s = grid.segment_index[k]
+    apart = is_apart(grid, i)   # a large body kept apart tests every segment
+    first, last = (0, env.segments.shape[0]) if apart else (grid.segment_start[c], grid.segment_start[c + 1])
+    for k in range(first, last):
+        s = k if apart else grid.segment_index[k]
         if rests_on(bodies, i, N_WALLS + s):
             continue
         x0, y0, x1, y1 = env.segments[s, 0], env.segments[s, 1], env.segments[s, 2], env.segments[s, 3]
@@ -105,13 +110,17 @@ def predict_solo(bodies, grid, env, queue, i, t_now, t_end, base):
     Particle i must be current (t_ref = t_now). Events after t_end are not queued.
     """
     limit = t_end - t_now
+    if bodies.asleep[i]:   # frozen: nothing happens to it on its own
+        bodies.horizon[i] = t_end
+        return
     best = (limit, CELL, -1)
     t, direction = next_cell_crossing(bodies, grid, i, limit)
     best = _earlier(t, CELL, direction, *best)
     t, wall = next_wall_hit(bodies, env, i, best[0])
     best = _earlier(t, WALL, wall, *best)
     c = grid.cell[i]
-    if grid.segment_start[c + 1] > grid.segment_start[c]:  # only call it when there are segments to test
+    if grid.segment_start[c + 1] > grid.segment_start[c] or (is_apart(grid, i) and env.segments.shape[0] > 0):
+        # only call it when there are segments to test
         t, s = next_segment_hit(bodies, grid, env, i, best[0])
         best = _earlier(t, SEGMENT, s, *best)
     if bodies.support[i] >= N_WALLS and bodies.wedge[i] == FREE:
@@ -124,13 +133,15 @@ def predict_solo(bodies, grid, env, queue, i, t_now, t_end, base):
 
 @njit(cache=True, error_model="numpy")
 def predict_pairs(bodies, grid, queue, i, t_now, done, base):
-    """Queue particle i's collisions with the particles of its 3 × 3 block, each up to
-    the earlier of the two horizons, skipping the particles j with done[j] (whose pairs
-    were just predicted). i must be current."""
+    """Queue particle i's collisions with the particles of its block of cells (3 × 3, or as
+    far as a large body reaches) and with the large bodies kept apart that may reach it,
+    each up to the earlier of the two horizons, skipping the particles j with done[j] (whose
+    pairs were just predicted). i must be current."""
     xi, yi = bodies.pos[i, 0], bodies.pos[i, 1]
     vxi, vyi = bodies.vel[i, 0], bodies.vel[i, 1]
     axi, ayi = bodies.acc[i, 0], bodies.acc[i, 1]
-    cx_lo, cx_hi, cy_lo, cy_hi = neighbour_block(grid, grid.cell[i])
+    reach = grid.reach[i]
+    cx_lo, cx_hi, cy_lo, cy_hi = reach_block(grid, grid.cell[i], reach)
     for cy in range(cy_lo, cy_hi):
         for cx in range(cx_lo, cx_hi):
             j = grid.head[cy * grid.nx + cx]
@@ -145,3 +156,23 @@ def predict_pairs(bodies, grid, queue, i, t_now, done, base):
                         lo, hi = min(i, j), max(i, j)
                         push(queue, t_now + t, event_key(PAIR, lo, hi, base), bodies.counter[lo], bodies.counter[hi])
                 j = grid.next[j]
+    if grid.apart.shape[0] == 0:
+        return
+    for k in range(grid.apart.shape[0]):
+        j = grid.apart[k]
+        if j != i and not done[j] and (reach > 1 or within_reach(grid, grid.cell[i], grid.cell[j], grid.reach[j])):
+            predict_pair(bodies, queue, i, j, t_now, base)
+
+
+@njit(cache=True, error_model="numpy")
+def predict_pair(bodies, queue, i, j, t_now, base):
+    """Queue the collision of i (current) and j if it comes before both horizons."""
+    xj, yj = position_at(bodies, j, t_now)
+    vxj, vyj = velocity_at(bodies, j, t_now)
+    t_max = min(bodies.horizon[i], bodies.horizon[j]) - t_now
+    t = time_to_point(xj - bodies.pos[i, 0], yj - bodies.pos[i, 1], vxj - bodies.vel[i, 0], vyj - bodies.vel[i, 1],
+                      bodies.acc[j, 0] - bodies.acc[i, 0], bodies.acc[j, 1] - bodies.acc[i, 1],
+                      bodies.radius[i] + bodies.radius[j], t_max)
+    if t <= t_max:
+        lo, hi = min(i, j), max(i, j)
+        push(queue, t_now + t, event_key(PAIR, lo, hi, base), bodies.counter[lo], bodies.counter[hi])

@@ -23,7 +23,13 @@ MIN_BOUNCE_HEIGHT × the radius under gravity (invisible):
 * collisions slower than the micro-bounce speed are elastic (as for real
   materials, e -> 1 as the impact speed -> 0).
 
-Walls and segment interiors carry resting particles instead (bodies.py).
+Walls and segment interiors carry resting particles instead (bodies.py), and
+particles held still by their supports fall asleep (sleep.py): a sleeping particle
+is a fixed obstacle, like a wall, until a hit wakes it.
+
+Luding and McNamara's TC model, against inelastic collapse in free granular gases:
+a contact with a particle that collided less than Environment.tc ago is elastic
+(e = 1); tc = 0 (the default) turns it off.
 
 Several contacts can happen at exactly the same time (symmetric set-ups: a ball
 hit from two mirrored sides, a billiard break). Solving them one after the
@@ -65,6 +71,12 @@ MIN_BOUNCE_HEIGHT = 1e-4
 SWEEP_TOLERANCE = 1e-15
 MAX_SWEEPS = 100
 
+# Every contact leaves separating at least this fraction of the largest speed involved. A
+# target of exactly 0 (e = 0, or a rebound below rounding) can leave the pair approaching by
+# a rounding error that no impulse can fix (the change is below the velocities' last digit),
+# and it would collide again at the same instant for ever.
+SEPARATION_FLOOR = 1e-12
+
 
 @njit(cache=True, error_model="numpy")
 def new_contacts(capacity):
@@ -76,13 +88,13 @@ def new_contacts(capacity):
 
 
 @njit(cache=True, error_model="numpy")
-def _rebound_speed(env, approach, pressing, radius, can_rest):
+def _rebound_speed(env, approach, pressing, radius, can_rest, restitution):
     """The separation speed a contact should have after the collision (module docstring)."""
     if can_rest:
-        return env.restitution * approach
+        return restitution * approach
     gravity = math.hypot(env.gravity[0], env.gravity[1])
     micro = math.sqrt(2.0 * gravity * MIN_BOUNCE_HEIGHT * radius)
-    rebound = approach if approach < micro else env.restitution * approach
+    rebound = approach if approach < micro else restitution * approach
     if pressing > 0.0:
         rebound = max(rebound, math.sqrt(2.0 * pressing * MIN_BOUNCE_HEIGHT * radius))
     return rebound
@@ -100,10 +112,14 @@ def _add(bodies, env, contacts, kind, i, j, other, nx, ny, x, y, can_rest):
         ax, ay = ax - bodies.acc[j, 0], ay - bodies.acc[j, 1]
         radius = min(radius, bodies.radius[j])
     approach = max(vx * nx + vy * ny, 0.0)
+    # TC model: a body hit again within tc of its last collision collides elastically
+    t = bodies.t_ref[i]
+    recent = t - bodies.last_hit[i] < env.tc or (j >= 0 and t - bodies.last_hit[j] < env.tc)
+    restitution = 1.0 if recent else env.restitution
     contacts.kind[k], contacts.i[k], contacts.j[k], contacts.other[k] = kind, i, j, other
     contacts.nx[k], contacts.ny[k], contacts.x[k], contacts.y[k] = nx, ny, x, y
     contacts.approach[k] = approach
-    contacts.rebound[k] = _rebound_speed(env, approach, ax * nx + ay * ny, radius, can_rest)
+    contacts.rebound[k] = _rebound_speed(env, approach, ax * nx + ay * ny, radius, can_rest, restitution)
     contacts.impulse[k] = 0.0
     contacts.can_rest[k] = can_rest
     contacts.count[0] = k + 1
@@ -131,11 +147,24 @@ def add_segment_contact(bodies, env, contacts, i, s):
 
 @njit(cache=True, error_model="numpy")
 def add_pair_contact(bodies, env, contacts, i, j):
-    """Particles i and j (current) touch."""
+    """Particles i and j (current) touch. One asleep (sleep.py) is a fixed obstacle for the
+    other: the contact is the awake one's, with j = -1 and `other` the sleeper."""
+    if bodies.asleep[i]:
+        i, j = j, i
     nx, ny, _ = line_of_centres(bodies.pos, i, j)
     radius = bodies.radius[i]
-    _add(bodies, env, contacts, PAIR, i, j, j, nx, ny, bodies.pos[i, 0] + radius * nx, bodies.pos[i, 1] + radius * ny,
-         False)
+    _add(bodies, env, contacts, PAIR, i, -1 if bodies.asleep[j] else j, j, nx, ny, bodies.pos[i, 0] + radius * nx,
+         bodies.pos[i, 1] + radius * ny, False)
+
+
+@njit(cache=True, error_model="numpy")
+def mark_hits(bodies, contacts, t):
+    """Remember t as the last collision of every body a contact of this instant pushed."""
+    for k in range(contacts.count[0]):
+        if contacts.impulse[k] > 0.0:
+            bodies.last_hit[contacts.i[k]] = t
+            if contacts.j[k] >= 0:
+                bodies.last_hit[contacts.j[k]] = t
 
 
 @njit(cache=True, error_model="numpy")
@@ -171,7 +200,7 @@ def solve_contacts(bodies, contacts):
                 vx, vy = vx - bodies.vel[j, 0], vy - bodies.vel[j, 1]
                 inverse_mass += 1.0 / bodies.mass[j]
             approach = vx * contacts.nx[k] + vy * contacts.ny[k]
-            target = -contacts.rebound[k]
+            target = -max(contacts.rebound[k], SEPARATION_FLOOR * scale)
             change = max(contacts.impulse[k] + (approach - target) / inverse_mass, 0.0) - contacts.impulse[k]
             _apply(bodies, contacts, k, change)
             largest = max(largest, abs(change) * inverse_mass)
@@ -194,4 +223,5 @@ def settle_resting(bodies, env, contacts):
         if comes_to_rest(env, bodies.radius[i], rebound, nx, ny):
             support = contacts.other[k] if contacts.kind[k] == WALL else N_WALLS + contacts.other[k]
             rest_on(bodies, env, i, support, nx, ny)
-            contacts.impulse[k] += bodies.mass[i] * max(rebound, 0.0)
+            # the rebound it would have had is not given: the support pushed that much less
+            contacts.impulse[k] -= bodies.mass[i] * max(rebound, 0.0)

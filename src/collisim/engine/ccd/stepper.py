@@ -16,6 +16,7 @@ from ...model.trajectory import Events
 from ..discrete import new_frames
 from ..profile import Profile
 from .events import run, sorted_log, start_event_loop
+from .fallback import FALLBACK_NOTE
 
 
 def map_events(events: Events, own_segments: int) -> Events:
@@ -34,7 +35,7 @@ class CCDStepper:
     broadphase = ""   # the event loop finds its own candidates
 
     def __init__(self, world, fps: float, frames: int, profile: Profile | None = None,
-                 max_events_per_frame: int | None = None):
+                 max_events_per_frame: int | None = None, rest_speed: float | None = None, tc: float = 0.0):
         if np.any(world.shapes != CIRCLE):
             raise ValueError("method ccd covers circles, segments and maps; this scene has polygons: "
                              "use method discrete")
@@ -46,7 +47,8 @@ class CCDStepper:
         self.max_events = max(100_000, 64 * world.n) if max_events_per_frame is None else max_events_per_frame
         gravity = world.accelerations[0] if world.n else world.gravity
         self.loop = start_event_loop(world.positions, world.velocities, gravity, world.radii, world.masses,
-                                     world.box, world.restitution, world.level_segments, frames * self.frame_dt)
+                                     world.box, world.restitution, world.level_segments, frames * self.frame_dt,
+                                     rest_speed=rest_speed, tc=tc)
         self.profile = profile or Profile()
         self.warnings = []
         self._frames_done = 0
@@ -63,9 +65,8 @@ class CCDStepper:
         self.profile.add("events", time.perf_counter() - start)
         out.approximate[:] = over_budget
         if over_budget.any() and not self.warnings:
-            self.warnings.append(f"more than {self.max_events} events in a frame (resting contact or inelastic "
-                                 f"collapse), first at frame {self._frames_done + 1 + int(np.argmax(over_budget))}; "
-                                 f"such frames are finished by an approximate step that can lose energy")
+            self.warnings.append(f"more than {self.max_events} events in a frame, first at frame "
+                                 f"{self._frames_done + 1 + int(np.argmax(over_budget))}; {FALLBACK_NOTE}")
         # circles turn freely between contacts, and ccd's contacts have no torque
         elapsed = (self._frames_done + np.arange(1, count + 1)) * self.frame_dt
         out.angles[:] = w.angles + np.outer(elapsed, w.angular_velocities)

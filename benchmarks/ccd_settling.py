@@ -1,0 +1,107 @@
+"""Must-shows of ccd under gravity (issue 12, item 1):
+
+* settle: the particles_250 gas with gravity (0, -9.81) and e = 0.8 under ccd, streamed block by
+  block as a render does: seconds of compute per simulated second against discrete at 1 substep
+  (same run, same scene), the peak resident memory growth per 10 s block, the largest overlap
+  (radii of the smaller body), events per simulated second, frames over budget;
+* pile: 200 equal balls dropped into a box exactly 10 diameters wide, e = 0, 0.5, 0.9: the
+  largest overlap, the pile height against hexagonal close packing of 200 balls in rows of
+  10 and 9, and the kinetic energy over the last second against the drop energy.
+
+    .venv/bin/python benchmarks/ccd_settling.py settle [seconds]
+    .venv/bin/python benchmarks/ccd_settling.py pile [seconds]
+"""
+import resource
+import sys
+import time
+
+import numpy as np
+
+import collisim
+from collisim.broadphase import find_pairs
+from collisim.engine import stream
+
+G = 9.81
+
+
+def worst_overlap(positions, radii):
+    pairs = find_pairs("grid", positions - radii[:, None], positions + radii[:, None])
+    d = np.hypot(*(positions[pairs[:, 0]] - positions[pairs[:, 1]]).T)
+    return float(np.max((radii[pairs].sum(axis=1) - d) / radii[pairs].min(axis=1), initial=0.0))
+
+
+def peak_mb():
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+
+
+def settle(seconds=60.0):
+    scene = collisim.load_scene("particles_250")
+    scene = scene.replace(world=scene.world.copy(gravity=(0.0, -G), restitution=0.8), seconds=seconds)
+    costs = {}
+    for method in ("discrete", "ccd"):
+        run = scene.replace(method=method, substeps=1)
+        list(stream(run.replace(seconds=1 / 60 * 2)))  # compile
+        start, worst, events, approximate, marks = time.perf_counter(), 0.0, 0, 0, []
+        for block in stream(run, block=600):
+            if method == "ccd":
+                worst = max(worst, max(worst_overlap(p, block.radii) for p in block.positions))
+                events += len(block.events)
+                approximate += int(block.approximate.sum())
+            marks.append((block.times[-1], time.perf_counter() - start, peak_mb()))
+        costs[method] = (time.perf_counter() - start) / seconds
+        if method == "ccd":
+            print(f"ccd: {costs['ccd']:.3f} s per simulated second, {events / seconds:.0f} logged events per "
+                  f"simulated second, {approximate} frames over budget, largest overlap {worst:.2e} r")
+            print("  peak memory after each 10 s block (MB): " + ", ".join(f"{m:.0f}" for _, _, m in marks))
+            print("  compute per 10 s block (s): " + ", ".join(
+                f"{b - a:.2f}" for (_, a, _), (_, b, _) in zip([(0, 0.0, 0)] + marks[:-1], marks)))
+    print(f"discrete x1: {costs['discrete']:.3f} s per simulated second; ccd / discrete = "
+          f"{costs['ccd'] / costs['discrete']:.2f}")
+
+
+def pile_world(restitution, n=200, radius=0.5, columns=10):
+    width = 2 * radius * columns
+    rows = int(np.ceil(n / (columns - 1)))
+    rng = np.random.default_rng(1)
+    pitch = width / (columns - 1)   # wider than a diameter: no two start touching
+    x = (np.arange(n) % (columns - 1) + 0.5) * pitch + rng.uniform(-0.1, 0.1, n) * radius
+    y = 3 * radius + (np.arange(n) // (columns - 1)) * 2.5 * radius
+    height = y.max() + 2 * radius
+    return collisim.World(np.column_stack([x, y]), rng.normal(0, 0.5, (n, 2)), radius, box=(0, 0, width, height),
+                          gravity=(0.0, -G), restitution=restitution)
+
+
+def close_packing_height(n=200, radius=0.5, columns=10):
+    """Top of the pile of n balls in hexagonal rows of columns and columns - 1 (centre height of
+    the top row + radius), a partial top row counted by its share."""
+    left, rows = n, 0
+    while left > 0:
+        take = columns if rows % 2 == 0 else columns - 1
+        if left < take:
+            return radius + (rows - 1) * np.sqrt(3) * radius + (left / take) * np.sqrt(3) * radius + radius
+        left, rows = left - take, rows + 1
+    return radius + (rows - 1) * np.sqrt(3) * radius + radius
+
+
+def pile(seconds=20.0):
+    for e in (0.0, 0.5, 0.9):
+        world = pile_world(e)
+        scene = collisim.Scene(world=world, fps=60, seconds=seconds, method="ccd")
+        start = time.perf_counter()
+        traj = collisim.simulate(scene)
+        elapsed = time.perf_counter() - start
+        m = world.masses
+        drop = float(np.sum(m * G * (world.positions[:, 1] - world.radii)) + 0.5 * np.sum(m * world.velocities ** 2))
+        ke = 0.5 * np.sum(m[None] * np.sum(traj.velocities ** 2, axis=2), axis=1)
+        worst = max(worst_overlap(p, traj.radii) for p in traj.positions[::6])
+        top = float(np.max(traj.positions[-1, :, 1] + traj.radii))
+        ref = close_packing_height()
+        last = traj.times >= traj.times[-1] - 1.0
+        print(f"e = {e}: {elapsed:.1f} s for {seconds:g} s, largest overlap {worst:.2e} r, height {top:.3f} vs "
+              f"close packing {ref:.3f} ({(top / ref - 1) * 100:+.2f} %), kinetic energy over the last second "
+              f"<= {ke[last].max() / drop:.1e} of the drop energy, frames over budget {int(traj.approximate.sum())}")
+
+
+if __name__ == "__main__":
+    what = sys.argv[1] if len(sys.argv) > 1 else "settle"
+    {"settle": settle, "pile": pile}[what](*(float(a) for a in sys.argv[2:]))
