@@ -1,6 +1,6 @@
 """The compiled disc and ring rasterizer (render/splat.py) against exact covered areas.
 
-Every tolerance below is one of the bounds stated in splat.py's docstring, measured over radii
+Every tolerance below is one of the bounds stated in coverage.py's docstring, measured over radii
 0.5 to 200 px at random sub-pixel positions, with a margin of about 20 %."""
 import hashlib
 import subprocess

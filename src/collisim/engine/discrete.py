@@ -30,7 +30,7 @@ from numba import njit
 
 from ..broadphase.step import AUTO, candidate_pairs, choose, step_state
 from ..geometry.box import centre_range
-from ..geometry.polygon import world_vertices
+from ..geometry.polygon import place_polygons
 from ..model.kinds import CIRCLE, MAP, PAIR, SEGMENT, WALL
 from ..narrowphase.statics import segment_contacts
 from ..response.map import bounce_off_map, push_out
@@ -107,7 +107,7 @@ def _contact_phases(bodies, statics, broad, dt, margin, lo, hi, vertices, moved,
     b = bodies
     n = b.positions.shape[0]
     margins(b.velocities, b.angular_velocities, b.accelerations, b.radii, dt, margin)
-    place_polygons(b, vertices)
+    place_polygons(b.body_vertices, b.vertex_start, b.positions, b.angles, vertices)
     pairs = np.empty((0, 2), np.int64)
     if n >= 2:   # a lone body runs no pair phase
         _bounds(b, margin, lo, hi)
@@ -123,16 +123,6 @@ def _contact_phases(bodies, statics, broad, dt, margin, lo, hi, vertices, moved,
     count = wall_rows(b, vertices, margin, statics.box, statics.rest_speed, in_pair, rows, count)
     t = _lap(phase_cycles, NARROW, t)
     return rows, count, pairs.shape[0], t
-
-
-@njit(cache=True)
-def place_polygons(bodies, vertices):
-    """Every polygon's vertices in the world, into vertices (V, 2)."""
-    b = bodies
-    for i in range(b.positions.shape[0]):
-        s, e = b.vertex_start[i], b.vertex_start[i + 1]
-        if e > s:
-            world_vertices(b.body_vertices[s:e], b.positions[i, 0], b.positions[i, 1], b.angles[i], vertices[s:e])
 
 
 @njit(cache=True)

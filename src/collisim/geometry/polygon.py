@@ -60,6 +60,17 @@ def world_vertices(body_vertices, x, y, angle, out):
 
 
 @njit(cache=True, error_model="numpy")
+def place_polygons(body_vertices, vertex_start, positions, angles, out):
+    """Every polygon's vertices in the world at these poses, into out (V, 2): body i's are
+    body_vertices[vertex_start[i]:vertex_start[i + 1]] (none for a circle). Returns out."""
+    for i in range(positions.shape[0]):
+        s, e = vertex_start[i], vertex_start[i + 1]
+        if e > s:
+            world_vertices(body_vertices[s:e], positions[i, 0], positions[i, 1], angles[i], out[s:e])
+    return out
+
+
+@njit(cache=True, error_model="numpy")
 def polygon_bounds(vertices):
     """The axis-aligned box (xmin, ymin, xmax, ymax) around vertices (k, 2)."""
     xmin, ymin = vertices[0, 0], vertices[0, 1]

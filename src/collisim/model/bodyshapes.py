@@ -57,9 +57,9 @@ def shape_table(polygons, n: int) -> ShapeTable:
                       notes)
 
 
-def polygons_of(table: ShapeTable) -> list | None:
-    """World's `polygons` argument back from a table (vertices about the centroids), or None."""
-    if not np.any(table.shapes == POLYGON):
-        return None
-    return [table.vertices[table.start[i]:table.start[i + 1]].copy() if table.shapes[i] == POLYGON else None
-            for i in range(len(table.shapes))]
+def polygons_of(start, vertices) -> list | None:
+    """World's `polygons` argument back from a vertex table (n + 1,), (V, 2) (vertices about the
+    centroids; a body with none is a circle), or None if every body is a circle."""
+    polygons = [vertices[start[i]:start[i + 1]].copy() if start[i + 1] > start[i] else None
+                for i in range(len(start) - 1)]
+    return polygons if any(p is not None for p in polygons) else None

@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from ..notebook import trajectory_preview_html
+from .bodyshapes import polygons_of
 from .world import World
 
 FILE_FORMAT = 1  # the version of the trajectory file written by save()
@@ -211,6 +212,4 @@ def _polygons(arrays) -> list | None:
     """The World's polygons argument from a file's vertex table (None for files of circles)."""
     if "world_vertex_start" not in arrays:
         return None
-    start, vertices = arrays["world_vertex_start"], arrays["world_body_vertices"]
-    polygons = [vertices[start[i]:start[i + 1]] if start[i + 1] > start[i] else None for i in range(len(start) - 1)]
-    return polygons if any(p is not None for p in polygons) else None
+    return polygons_of(arrays["world_vertex_start"], arrays["world_body_vertices"])

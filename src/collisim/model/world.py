@@ -88,32 +88,35 @@ class World:
         polygon's own for a polygon (uniform density)."""
         return self.masses * self._inertia_per_mass
 
-    def world_vertices(self, i: int, position=None, angle=None) -> np.ndarray:
-        """Polygon body i's vertices (k, 2) in the world (at its own pose unless given)."""
-        x, y = self.positions[i] if position is None else position
-        turn = self.angles[i] if angle is None else angle
-        local = self.body_vertices[self.vertex_start[i]:self.vertex_start[i + 1]]
-        c, s = np.cos(turn), np.sin(turn)
-        return np.column_stack([x + c * local[:, 0] - s * local[:, 1], y + s * local[:, 0] + c * local[:, 1]])
+    def placed_vertices(self, positions=None, angles=None) -> np.ndarray:
+        """Every polygon's vertices (V, 2) in the world, at the bodies' own poses unless given
+        (positions (n, 2), angles (n,)); body i's are rows vertex_start[i]:vertex_start[i + 1]."""
+        from ..geometry.polygon import place_polygons
+        positions = self.positions if positions is None else np.ascontiguousarray(positions, np.float64)
+        angles = self.angles if angles is None else np.ascontiguousarray(angles, np.float64)
+        return place_polygons(self.body_vertices, self.vertex_start, positions, angles,
+                              np.empty_like(self.body_vertices))
+
+    def world_vertices(self, i: int) -> np.ndarray:
+        """Polygon body i's vertices (k, 2) in the world, at its own pose."""
+        return self.placed_vertices()[self.vertex_start[i]:self.vertex_start[i + 1]]
 
     def extents(self) -> tuple[np.ndarray, np.ndarray]:
         """Each body's axis-aligned bounds (n, 2) lo, hi at its pose: centre ± radius for a
         circle, its vertices' for a polygon."""
         r = self.radii[:, None]
         lo, hi = self.positions - r, self.positions + r
-        for i in np.flatnonzero(self.shapes == POLYGON):
-            corners = self.world_vertices(i)
-            lo[i], hi[i] = corners.min(axis=0), corners.max(axis=0)
+        polygons = np.flatnonzero(self.shapes == POLYGON)
+        if polygons.size:
+            corners, starts = self.placed_vertices(), self.vertex_start[polygons]
+            lo[polygons] = np.minimum.reduceat(corners, starts, axis=0)
+            hi[polygons] = np.maximum.reduceat(corners, starts, axis=0)
         return lo, hi
 
     @property
     def polygons(self) -> list | None:
         """Each body's polygon about its centroid (None for a circle), or None if all are circles."""
-        return polygons_of(self._table())
-
-    def _table(self):
-        from .bodyshapes import ShapeTable
-        return ShapeTable(self.shapes, self.vertex_start, self.body_vertices, None, None, None, None, [])
+        return polygons_of(self.vertex_start, self.body_vertices)
 
     @property
     def level_segments(self) -> np.ndarray:

@@ -1,10 +1,10 @@
 """The table from a pair of shape kinds to the functions that test and describe their contact.
 
 Box2D keeps such a table (`s_registers[shapeA][shapeB]` in contact.c); here it is a dict for
-readers, tests and tools, and two compiled dispatchers, `touching` and `contact`, that the
-engine calls per candidate pair. Adding a shape kind means: its functions in a module of this
-package, a row in SHAPE_PAIRS (and STATIC_PAIRS), and a branch in each dispatcher (a test checks
-that every row of the table is dispatched).
+readers, tests and tools, and compiled dispatchers: `touching` and `contact` for pairs of circles
+(a test checks that every row of the table is dispatched), and narrowphase/manifold.py's
+`pair_manifold`, which the engine calls per candidate pair for every pair of shapes (circles and
+convex polygons, with speculative points), and `contacts` below uses too.
 
 A contact is (nx, ny, depth, px, py): the unit normal from the first body towards the second,
 the overlap depth (negative when apart) and the contact point.
@@ -38,25 +38,6 @@ def contact(shapes, positions, radii, i, j):
 
 
 @njit(cache=True)
-def touching_pairs(shapes, positions, radii, candidates):
-    """The candidate pairs (k, 2) whose bodies touch, in the same order: (m, 2)."""
-    keep = np.zeros(candidates.shape[0], dtype=np.bool_)
-    for c in range(candidates.shape[0]):
-        keep[c] = touching(shapes, positions, radii, candidates[c, 0], candidates[c, 1])
-    return candidates[keep]
-
-
-@njit(cache=True)
-def contact_rows(shapes, positions, radii, pairs):
-    """The contacts (k, 5) of pairs (k, 2): rows nx, ny, depth, px, py."""
-    rows = np.empty((pairs.shape[0], 5))
-    for c in range(pairs.shape[0]):
-        rows[c, 0], rows[c, 1], rows[c, 2], rows[c, 3], rows[c, 4] = contact(shapes, positions, radii,
-                                                                             pairs[c, 0], pairs[c, 1])
-    return rows
-
-
-@njit(cache=True)
 def contact_table(shapes, positions, radii, vertices, start, candidates):
     """One row (i, j, nx, ny, depth, px, py) per contact point of the candidate pairs (k, 2)."""
     most = 1
@@ -81,14 +62,10 @@ def contacts(world, positions=None) -> dict:
     per contact point (a face on a face has two): pairs (k, 2) with i < j, normals (k, 2) from i
     to j, depths (k,) (>= 0), points (k, 2) midway between the surfaces."""
     from ..broadphase import find_pairs
-    from ..geometry.polygon import world_vertices
     positions = world.positions if positions is None else np.asarray(positions, np.float64)
     reach = world.radii[:, None]
     candidates = find_pairs("grid", positions - reach, positions + reach)
-    vertices = np.empty_like(world.body_vertices)
-    for i in np.flatnonzero(world.shapes != CIRCLE):
-        s, e = world.vertex_start[i], world.vertex_start[i + 1]
-        world_vertices(world.body_vertices[s:e], positions[i, 0], positions[i, 1], world.angles[i], vertices[s:e])
+    vertices = world.placed_vertices(positions)
     table = contact_table(world.shapes, positions, world.radii, vertices, world.vertex_start, candidates)
     return {"pairs": table[:, :2].astype(np.int64), "normals": table[:, 2:4], "depths": table[:, 4],
             "points": table[:, 5:]}

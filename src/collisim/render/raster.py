@@ -195,7 +195,8 @@ def draw_polygons(canvas, outlines_px, colors_rgb) -> None:
 def polygon_outlines(world, positions, angles) -> tuple[list, np.ndarray]:
     """The world outlines (k, 2) of every polygon body at these poses, and their body indices."""
     bodies = np.flatnonzero(world.shapes != CIRCLE)
-    return [world.world_vertices(i, positions[i], angles[i]) for i in bodies], bodies
+    outlines = np.split(world.placed_vertices(positions, angles), world.vertex_start[bodies[1:]])
+    return outlines, bodies
 
 
 def draw_lines_px(canvas, starts, ends, color_rgb, thickness: int = 1) -> None:

@@ -59,19 +59,13 @@ class ReferenceStep:
     def positions(self) -> np.ndarray:
         """(n, 2) in the World's order."""
         x, y, _, _, _, _, ids = self.data
-        out = np.empty((len(x), 2))
-        order = ids.astype(np.intp)
-        out[order, 0], out[order, 1] = x, y
-        return out
+        return _in_world_order(x, y, ids)
 
     @property
     def velocities(self) -> np.ndarray:
         """(n, 2) in the World's order."""
         _, _, vx, vy, _, _, ids = self.data
-        out = np.empty((len(vx), 2))
-        order = ids.astype(np.intp)
-        out[order, 0], out[order, 1] = vx, vy
-        return out
+        return _in_world_order(vx, vy, ids)
 
     def kinetic_energy(self) -> float:
         _, _, vx, vy, _, inverse_mass, _ = self.data
@@ -191,3 +185,11 @@ def reflect(p, v, low, high):
     elif p > high:
         p, v = max(2.0 * high - p, low), -abs(v)
     return p, v
+
+
+def _in_world_order(a: np.ndarray, b: np.ndarray, ids: np.ndarray) -> np.ndarray:
+    """Columns a, b (n,) kept in cell order, as (n, 2) rows in the World's order (ids: each row's body)."""
+    out = np.empty((len(a), 2))
+    order = ids.astype(np.intp)
+    out[order, 0], out[order, 1] = a, b
+    return out

@@ -15,6 +15,7 @@ import pymunk
 import pymunk.batch
 
 from ...model.kinds import POLYGON
+from ...model.trajectory import Events
 
 _STATE_FIELDS = (pymunk.batch.BodyFields.POSITION | pymunk.batch.BodyFields.ANGLE
                  | pymunk.batch.BodyFields.VELOCITY | pymunk.batch.BodyFields.ANGULAR_VELOCITY)
@@ -32,8 +33,27 @@ def add_body(space: pymunk.Space, world, i: int, moment: float) -> tuple:
         shape = pymunk.Poly(body, [tuple(float(v) for v in vertex) for vertex in vertices], radius=0.0)
     else:
         shape = pymunk.Circle(body, float(world.radii[i]))
+    if not world.uniform_acceleration:   # each body follows its own acceleration, not the space's gravity
+        body.velocity_func = _constant_acceleration(tuple(float(a) for a in world.accelerations[i]))
     space.add(body, shape)
     return body, shape
+
+
+def _constant_acceleration(acceleration):
+    """A velocity function that applies this particle's own acceleration instead of gravity."""
+    def update(body, gravity, damping, dt):
+        pymunk.Body.update_velocity(body, acceleration, damping, dt)
+    return update
+
+
+def events_from_rows(rows: list) -> Events:
+    """Events from recorded (time, kind, i, j, impulse, x, y) tuples, in canonical order."""
+    if not rows:
+        return Events.empty()
+    t, kind, i, j, impulse, x, y = (np.array(column) for column in zip(*rows))
+    return Events.concatenate([Events(t.astype(np.float64), kind.astype(np.int8), i.astype(np.intp),
+                                      j.astype(np.intp), impulse.astype(np.float64),
+                                      np.column_stack([x, y]).astype(np.float64))])
 
 
 def read_state(space: pymunk.Space, n: int, buffer: pymunk.batch.Buffer) -> tuple:

@@ -51,7 +51,7 @@ import pymunk.batch
 
 from ...model.kinds import PAIR, SEGMENT, WALL
 from ...model.trajectory import Events, Trajectory
-from .bodies import add_body, read_state
+from .bodies import add_body, events_from_rows, read_state
 
 _A = pymunk.batch.ArbiterFields
 _ARBITER_FIELDS = (_A.BODY_A_ID | _A.BODY_B_ID | _A.IS_FIRST_CONTACT | _A.CONTACT_COUNT | _A.TOTAL_IMPULSE
@@ -69,8 +69,6 @@ class PlainPymunk:
         self.bodies = []
         for i in range(world.n):
             body, shape = add_body(self.space, world, i, world.inertias[i])
-            if not world.uniform_acceleration:
-                body.velocity_func = _constant_acceleration(tuple(world.accelerations[i]))
             self._set_material(shape)
             self.bodies.append(body)
         xmin, ymin, xmax, ymax = (float(v) for v in world.box)
@@ -174,19 +172,8 @@ class _ArbiterReader:
         return counts
 
     def events(self) -> Events:
-        if not self.rows:
-            return Events.empty()
-        t, kind, i, j, impulse, x, y = (np.array(column) for column in zip(*self.rows))
-        return Events.concatenate([Events(t.astype(np.float64), kind.astype(np.int8), i.astype(np.intp),
-                                          j.astype(np.intp), impulse.astype(np.float64),
-                                          np.column_stack([x, y]).astype(np.float64))])
+        return events_from_rows(self.rows)
 
-
-def _constant_acceleration(acceleration):
-    """A velocity function that applies this particle's own acceleration instead of gravity."""
-    def update(body, gravity, damping, dt):
-        pymunk.Body.update_velocity(body, acceleration, damping, dt)
-    return update
 
 
 def _checked_substeps(scene, substeps) -> int:

@@ -87,7 +87,7 @@ import pymunk.batch
 
 from ...model.kinds import PAIR, POLYGON, SEGMENT, WALL
 from ...model.trajectory import Events, Trajectory
-from .bodies import add_body, read_state
+from .bodies import add_body, events_from_rows, read_state
 
 ITERATIONS = 30
 SLOP_PER_RADIUS = 1e-3
@@ -192,12 +192,7 @@ class _Recorder:
         return counts
 
     def events(self) -> Events:
-        if not self._rows:
-            return Events.empty()
-        t, kind, i, j, impulse, x, y = (np.array(column) for column in zip(*self._rows))
-        return Events.concatenate([Events(t.astype(np.float64), kind.astype(np.int8), i.astype(np.intp),
-                                          j.astype(np.intp), impulse.astype(np.float64),
-                                          np.column_stack([x, y]).astype(np.float64))])
+        return events_from_rows(self._rows)
 
 
 def _new_space(world, iterations: int) -> pymunk.Space:
@@ -231,19 +226,11 @@ def _add_particles(space, world, recorder) -> list:
     bodies = []
     for i, moment in enumerate(_moments(world)):
         body, shape = add_body(space, world, i, moment)
-        if not world.uniform_acceleration:
-            body.velocity_func = _constant_acceleration(tuple(world.accelerations[i]))
         _set_material(shape, PARTICLE_TYPE, world)
         recorder.index[shape] = i
         bodies.append(body)
     return bodies
 
-
-def _constant_acceleration(acceleration):
-    """A velocity function that applies this particle's own acceleration instead of gravity."""
-    def update(body, gravity, damping, dt):
-        pymunk.Body.update_velocity(body, acceleration, damping, dt)
-    return update
 
 
 def _add_walls(space, world, recorder) -> None:
