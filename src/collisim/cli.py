@@ -9,10 +9,8 @@ import argparse
 import os
 import signal
 import sys
-import threading
 import time
 import warnings
-from contextlib import contextmanager
 from pathlib import Path
 
 from . import __version__
@@ -21,6 +19,7 @@ from .analysis.sweep.cli import add_sweep_parser, cmd_sweep
 from .broadphase import NAMES as BROAD_PHASES
 from .engine import METHODS
 from .engine.profile import profile_table
+from .interrupts import signals_interrupt
 from .io.formats import FORMATS
 from .model.scenefile import available_scenes, describe_scene_file, load_scene
 from .render.video import QUALITIES, THEMES
@@ -204,40 +203,6 @@ def cmd_compare(args) -> int:
 
 
 COMMANDS = {"list": cmd_list, "render": cmd_render, "bench": cmd_bench, "compare": cmd_compare, "sweep": cmd_sweep}
-
-
-class Interrupted(KeyboardInterrupt):
-    """A signal that ends the command like Ctrl-C: every output's temporary is removed on the way
-    out (a KeyboardInterrupt, so nothing that catches Exception swallows it)."""
-
-    def __init__(self, signum: int):
-        super().__init__(signal.Signals(signum).name)
-        self.signum = signum
-
-
-STOP_SIGNALS = tuple(getattr(signal, name) for name in ("SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, name))
-
-
-@contextmanager
-def signals_interrupt():
-    """While open, SIGINT, SIGTERM and SIGHUP raise Interrupted in the main thread; once one has,
-    further ones are ignored so that the clean-up runs to its end."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    fired = []
-
-    def stop(signum, frame):
-        if not fired:
-            fired.append(signum)
-            raise Interrupted(signum)
-
-    previous = {number: signal.signal(number, stop) for number in STOP_SIGNALS}
-    try:
-        yield
-    finally:
-        for number, handler in previous.items():
-            signal.signal(number, handler)
 
 
 def say(line: str) -> None:

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from .engine import stream
+from .interrupts import ctrl_c_safe
 from .io.formats import check_format, output_target
 from .io.sequence import check_sequence_folder
 from .io.writers import check_writable, remove_empty_folders, writer_for
@@ -171,9 +172,10 @@ def render(source, path, size=None, *, fps=None, quality=None, format=None, code
                       f"than 2/100 s longer; {GIF_MAX_FPS} fps or less plays as made (--fps, or -ql)")
     created = check_writable(out.path.parent)
     try:
-        return play(job.chapters, job.fps, job.frames, out.path, job.size, codec=out.codec, quality=quality or "m",
-                    png_frame=out.frame, transparent=transparent, theme=out.theme, name=job.name,
-                    progress=progress, profile=profile)
+        with ctrl_c_safe():
+            return play(job.chapters, job.fps, job.frames, out.path, job.size, codec=out.codec,
+                        quality=quality or "m", png_frame=out.frame, transparent=transparent, theme=out.theme,
+                        name=job.name, progress=progress, profile=profile)
     except BaseException:
         remove_empty_folders(created)   # a failed render leaves no folder it made either
         raise

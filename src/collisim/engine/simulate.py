@@ -6,6 +6,7 @@ from typing import Iterator
 
 import numpy as np
 
+from ..interrupts import ctrl_c_safe
 from ..model.scene import Scene
 from ..model.trajectory import Events, Trajectory, approximate_summary
 from .ccd.stepper import CCDStepper
@@ -43,13 +44,14 @@ def simulate(scene: Scene, progress=None, max_events: int = MAX_EVENTS, storage:
     if scene.chapters:
         return [simulate(chapter, progress, max_events, storage) for chapter in scene.chapters]
     recorder, kept, cut = Recorder(scene.frames + 1, storage), 0, False
-    for block in stream(scene, progress=progress):
-        room = max(max_events - kept, 0)
-        if len(block.events) > room:
-            block.events, cut = block.events.take(slice(0, room)), True
-        kept += len(block.events)
-        recorder.add(block)
-        del block  # the block's arrays go now, not when the next one has been made
+    with ctrl_c_safe():
+        for block in stream(scene, progress=progress):
+            room = max(max_events - kept, 0)
+            if len(block.events) > room:
+                block.events, cut = block.events.take(slice(0, room)), True
+            kept += len(block.events)
+            recorder.add(block)
+            del block  # the block's arrays go now, not when the next one has been made
     trajectory = recorder.trajectory()
     if cut and max_events > 0:
         warnings.warn(f"{scene.name}: only the first {max_events} collision events are kept in "
