@@ -12,6 +12,10 @@ SECONDS = 10.0
 SHAPES = [box(2.4, 0.4), box(1.2, 1.2), regular(3, 0.9), regular(6, 0.75), None, box(1.8, 0.6), regular(3, 0.7),
           None, box(2.0, 0.3)]
 RADII = [1.0, 1.0, 1.0, 1.0, 0.6, 1.0, 1.0, 0.45, 1.0]   # the balls' (a polygon's comes from its vertices)
+# the bodies in purples, pinks and slate, apart from the volumes' blue, green and orange, the
+# false positives' red and the touching pairs' yellow
+COLORS = [(190, 140, 255), (150, 160, 190), (255, 122, 190), (120, 110, 200), (150, 160, 190), (255, 122, 190),
+          (190, 140, 255), (120, 110, 200), (150, 160, 190)]
 
 
 def world() -> collisim.World:
@@ -21,7 +25,7 @@ def world() -> collisim.World:
     velocities = rng.normal(0.0, 1.6, (len(cells), 2))
     return collisim.World(positions, velocities, radii=RADII, polygons=SHAPES, angles=rng.uniform(0, np.pi, len(cells)),
                           angular_velocities=rng.uniform(-2.0, 2.0, len(cells)), box=BOX, restitution=1.0,
-                          friction=0.0)
+                          friction=0.0, colors=COLORS)
 
 
 FADE = 0.2
