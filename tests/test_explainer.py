@@ -26,7 +26,8 @@ def key_frames(scene, quality, count=6):
     return np.unique(np.concatenate([np.linspace(0, job.frames - 1, count).astype(int), inside]))
 
 
-@pytest.mark.parametrize("name", ["single_bounce", "two_bodies", "teacher_drop", "tunneling", "broadphase_six", "frame_rate"])
+@pytest.mark.parametrize("name", ["single_bounce", "two_bodies", "teacher_drop", "tunneling", "broadphase_six", "frame_rate",
+                                  "bounding_volumes"])
 @pytest.mark.parametrize("quality", ["l", "h"])
 def test_explained_scenes_keep_text_in_its_strips_and_panel(name, quality, tmp_path):
     scene = collisim.load_scene(name)
@@ -44,7 +45,7 @@ def test_explained_scenes_keep_text_in_its_strips_and_panel(name, quality, tmp_p
                 assert explain.inside(rect, bound), (quality, frame, kind, rect, bound)
                 seen.add(kind)
     assert "caption" in seen
-    if name == "broadphase_six":
+    if name in ("broadphase_six", "bounding_volumes"):
         assert "figure" in seen     # the structures, the sweep's lanes and the grid's chart stay in their regions
 
 

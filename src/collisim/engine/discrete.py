@@ -15,7 +15,8 @@ One step of dt is the pipeline below, each phase timed into the profile (engine/
                   (each step's move marched through its distance field), then the box walls
                   (a body the solver held against a wall is kept on it, not bounced)
     settle        keep bodies out of the map (positions only)
-    record        the frame's state into the trajectory
+    record        the frame's state into the trajectory, and how many of its pairs pass each
+                  level of the bounding volumes (narrowphase/hierarchy.py; worlds with polygons)
 
 A frame is k substeps of dt/k. The whole block of frames runs as one compiled call (a Python
 call per phase would cost more than the work at a thousand bodies); with fewer than two
@@ -32,6 +33,7 @@ from ..broadphase.step import AUTO, candidate_pairs, choose, step_state
 from ..geometry.box import centre_range
 from ..geometry.polygon import place_polygons
 from ..model.kinds import CIRCLE, MAP, PAIR, SEGMENT, WALL
+from ..narrowphase.hierarchy import NOT_COUNTED, record_levels
 from ..narrowphase.statics import segment_contacts
 from ..response.map import bounce_off_map, push_out
 from ..response.rows import margins, new_rows, pair_rows, wall_rows
@@ -55,10 +57,11 @@ Statics.__doc__ = """What bodies meet besides each other: box (4,), segments (m,
 collision map's field; and how contacts respond: restitution e, the rest speed below which a
 contact rests instead of bouncing, the solver's sweeps per step, and the friction coefficient."""
 Frames = namedtuple("Frames", ["positions", "velocities", "angles", "angular_velocities", "collisions",
-                               "candidates", "approximate"])
+                               "candidates", "approximate", "hierarchy"])
 Frames.__doc__ = """A block of frames: positions, velocities (f, n, 2); angles, angular_velocities (f, n);
 collisions (f, 3) wall, pair, segment in the interval ending at each frame; candidates (f,);
-approximate (f,) bool: frames the method could not finish exactly (see Trajectory)."""
+approximate (f,) bool: frames the method could not finish exactly (see Trajectory); hierarchy
+(f, 4): the pairs passing each bounding volume level (narrowphase/hierarchy.py), or NOT_COUNTED."""
 
 
 @njit(cache=True)
@@ -265,6 +268,7 @@ def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, memor
             rows, count, candidates, t = _contact_phases(b, s, broad, dt, margin, lo, hi, vertices, moved, rows,
                                                          phase_cycles, t)
         out.candidates[frame] = candidates
+        record_levels(b, broad, vertices, out.hierarchy[frame])
         out.positions[frame] = b.positions
         out.velocities[frame] = b.velocities
         if out.angles.shape[1] == n:  # bodies that turn (see new_frames)
@@ -313,7 +317,7 @@ def new_frames(count: int, n: int, turning: bool = True) -> Frames:
     columns = n if turning else 0
     return Frames(np.empty((count, n, 2)), np.empty((count, n, 2)), np.empty((count, columns)),
                   np.empty((count, columns)), np.zeros((count, 3), np.int64), np.zeros(count, np.int64),
-                  np.zeros(count, np.bool_))
+                  np.zeros(count, np.bool_), np.full((count, 4), NOT_COUNTED, np.int64))
 
 
 def constant_angles(frames: Frames, angles, angular_velocities) -> Frames:

@@ -9,6 +9,7 @@ import numpy as np
 from ..interrupts import ctrl_c_safe
 from ..model.scene import Scene
 from ..model.trajectory import Events, Trajectory, approximate_summary
+from ..narrowphase.hierarchy import world_counts
 from .ccd.stepper import CCDStepper
 from .discrete import DiscreteStepper, Frames
 
@@ -95,7 +96,7 @@ def stream(scene: Scene, block: int | None = None, progress=None) -> Iterator[Tr
             velocities=frames.velocities, angles=frames.angles, angular_velocities=frames.angular_velocities,
             wall_collisions=frames.collisions[:, 0], pair_collisions=frames.collisions[:, 1],
             segment_collisions=frames.collisions[:, 2], candidates=frames.candidates,
-            approximate=frames.approximate, world=world, fps=scene.fps,
+            approximate=frames.approximate, hierarchy=frames.hierarchy, world=world, fps=scene.fps,
             events=events, method=scene.method, broadphase=stepper.broadphase, substeps=scene.substeps,
             profile=stepper.profile.seconds, warnings=stepper.warnings)
         first += count
@@ -104,7 +105,7 @@ def stream(scene: Scene, block: int | None = None, progress=None) -> Iterator[Tr
 def _initial(world) -> Frames:
     return Frames(world.positions[None].copy(), world.velocities[None].copy(), world.angles[None].copy(),
                   world.angular_velocities[None].copy(), np.zeros((1, 3), np.int64), np.zeros(1, np.int64),
-                  np.zeros(1, np.bool_))
+                  np.zeros(1, np.bool_), world_counts(world)[None])
 
 
 def _join(initial: Frames, frames: Frames, events: Events) -> tuple:
@@ -125,7 +126,7 @@ def _repeats_one_row(array: np.ndarray) -> bool:
 
 
 _PER_FRAME = ("times", "positions", "velocities", "angles", "angular_velocities", "wall_collisions",
-              "pair_collisions", "segment_collisions", "candidates", "approximate")
+              "pair_collisions", "segment_collisions", "candidates", "approximate", "hierarchy")
 _STATE = ("positions", "velocities", "angles", "angular_velocities")   # what storage= applies to
 STORAGE = {"float64": (np.float64, _STATE), "float32": (np.float32, _STATE),
            "positions": (np.float32, ("positions", "angles"))}

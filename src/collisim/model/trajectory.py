@@ -16,9 +16,12 @@ from .bodyshapes import polygons_of
 from .world import World
 
 FILE_FORMAT = 1  # the version of the trajectory file written by save()
+# Trajectory.hierarchy's columns: the slides' bounding volumes, coarsest first (narrowphase/hierarchy.py)
+LEVELS = ("bounding circle", "box", "oriented box", "shape")
+NOT_COUNTED = -1   # the hierarchy of a frame nothing counted
 _EVENT_FIELDS = ("time", "kind", "i", "j", "impulse", "point")
 _FRAME_FIELDS = ("times", "positions", "velocities", "angles", "angular_velocities", "wall_collisions",
-                 "pair_collisions", "segment_collisions", "candidates", "approximate")
+                 "pair_collisions", "segment_collisions", "candidates", "approximate", "hierarchy")
 _WORLD_FIELDS = ("positions", "velocities", "angles", "angular_velocities", "accelerations", "gravity", "radii",
                  "masses", "colors", "box", "segments")
 
@@ -74,6 +77,12 @@ class Trajectory:
     candidates: (F,)   broad-phase candidate pairs of the last step of each frame
     approximate: (F,) bool  frames the method could not finish exactly (ccd over its event
                        budget: finished by an approximate step); False everywhere else
+    hierarchy: (F, 4)  the slides' funnel at each frame's state: how many pairs pass each of
+                       LEVELS in turn (bounding circles, boxes, oriented boxes overlap; the shapes
+                       touch), so column 3 counts the pairs truly touching and
+                       narrowphase.hierarchy.false_positive_rates reads each level's false
+                       positives. NOT_COUNTED (-1) where nothing counted: worlds of circles (every
+                       level is the bounding circle's), ccd, pymunk, files written before it
     events: every collision, for pressure, flashes and measurements
     world: the initial World (shapes, masses, colours, box, segments: what a player draws)
     fps, method, broadphase, substeps: how it was simulated
@@ -102,8 +111,13 @@ class Trajectory:
     profile: dict = field(default_factory=dict)
     warnings: list = field(default_factory=list)
     storage: str = "float64"
+    hierarchy: np.ndarray = None
 
     _repr_html_ = trajectory_preview_html  # Jupyter shows a short preview video (notebook.py)
+
+    def __post_init__(self):
+        if self.hierarchy is None:   # made by a method that does not count (pymunk's trajectories)
+            self.hierarchy = np.broadcast_to(np.int64(NOT_COUNTED), (len(self.times), len(LEVELS)))
 
     @property
     def frames(self) -> int:
@@ -191,7 +205,8 @@ def load_trajectory(path) -> Trajectory:
                       map=_embedded_map(arrays, path), polygons=_polygons(arrays),
                       friction=meta.get("friction", 0.0))
         events = Events(*(arrays[f"event_{name}"] for name in _EVENT_FIELDS))
-        frames = {name: arrays[f"frame_{name}"] for name in _FRAME_FIELDS}
+        frames = {name: arrays[f"frame_{name}"] for name in _FRAME_FIELDS if name != "hierarchy"}
+        frames["hierarchy"] = arrays.get("frame_hierarchy")   # None in files from before it: NOT_COUNTED
         return Trajectory(**frames, world=world, fps=float(meta["fps"]), events=events, method=meta["method"],
                           broadphase=meta["broadphase"], substeps=int(meta["substeps"]), profile=meta["profile"],
                           warnings=list(meta["warnings"]), storage=meta.get("storage", "float64"))

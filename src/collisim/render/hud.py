@@ -4,6 +4,8 @@ from __future__ import annotations
 import cv2
 
 from .. import palette
+from ..model.kinds import CIRCLE
+from ..model.trajectory import NOT_COUNTED
 from .raster import draw_text
 
 
@@ -27,8 +29,22 @@ def hud_lines(trajectory, frames: int, state, compact: bool = False) -> list:
              method_label(trajectory)]
     if trajectory.world.n >= 2:
         lines.append(f"pairs: {state.candidates} candidates, {state.pair_collisions} collisions")
+        lines += volume_line(trajectory, state)
     lines.append(f"collisions: {state.total_collisions}")
     return lines + flagged
+
+
+def volume_line(trajectory, state) -> list:
+    """The slides' funnel of the sample (Trajectory.hierarchy): the pairs whose bounding circles,
+    boxes and oriented boxes overlap, and those that touch. The discrete engine does not count
+    a world of circles, where every level is the bounding circle's, and says so."""
+    counts = state.hierarchy
+    if counts is not None and counts[0] != NOT_COUNTED:
+        circles, boxes, oriented, touching = (int(c) for c in counts)
+        return [f"volumes: {circles} circles > {boxes} boxes > {oriented} oriented > {touching} touch"]
+    if trajectory.method == "discrete" and (trajectory.world.shapes == CIRCLE).all():
+        return ["volumes: circles, each level exact"]
+    return []
 
 
 def draw_hud(canvas, rect, lines: list, scale: float) -> None:

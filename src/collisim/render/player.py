@@ -34,7 +34,8 @@ class FrameState:
     positions, velocities: (n, 2); angles: (n,); candidates, pair_collisions: of this sample;
     total_collisions: all collisions so far; approximate_frames: samples so far that the method
     could not finish exactly (Trajectory.approximate); events: the collisions of the sample's
-    block up to its time (Events); counters: the running RenderSettings.counters."""
+    block up to its time (Events); counters: the running RenderSettings.counters; hierarchy (4,):
+    the sample's pairs passing each bounding volume level (Trajectory.hierarchy), or None."""
     time: float
     sample: int
     positions: np.ndarray
@@ -47,6 +48,7 @@ class FrameState:
     events: Events
     counters: dict = field(default_factory=dict)
     clock: float = 0.0   # seconds of video into the panel (differs from time in slow motion and freezes)
+    hierarchy: np.ndarray = None
 
 
 @dataclass
@@ -150,7 +152,7 @@ class PanelPlayer:
         past = b.events.take(b.events.time <= b.times[row] + 1e-12)
         return FrameState(float(b.times[row]), self._sample, b.positions[row], b.velocities[row], b.angles[row],
                           int(b.candidates[row]), int(b.pair_collisions[row]), self._collisions,
-                          self.approximate_frames, past)
+                          self.approximate_frames, past, hierarchy=b.hierarchy[row])
 
     def draw(self, canvas) -> None:
         world, settings, state = self.world, self.settings, self.state

@@ -43,6 +43,8 @@ def add_bench_parser(commands) -> None:
                                                  "pymunk's on the same world, per phase, as ratios")
     polygons.add_argument("--seconds", type=float, default=8.0, help="simulated seconds per repeat")
     polygons.add_argument("--repeats", type=int, default=3)
+    polygons.add_argument("--scene", default="polygons", help="another scene of one world (bounding_volumes): "
+                                                              "timed whole, not split into falling and pile")
     for parser in (broad, render, accuracy, segments, maps, rays, polygons):
         parser.add_argument("--out", type=Path, default=Path("renders/bench"), help="folder for CSV and PNG")
         parser.add_argument("--no-progress", action="store_true")
@@ -98,9 +100,9 @@ def cmd_bench(args) -> int:
         print(format_rays(bench_rays(count=args.rays, repeats=args.repeats)))
     elif args.kind == "polygons":
         from .polygons import format_rows, load_world, run
-        world, fps = load_world()
-        rows, profile = run(args.seconds, args.repeats, world, fps)
-        print(format_rows(rows, world.n, profile))
+        world, fps = load_world(args.scene)
+        rows, profile = run(args.seconds, args.repeats, world, fps, falling=args.scene == "polygons")
+        print(format_rows(rows, world.n, profile, args.scene))
     elif args.kind == "render":
         from .render import run
         _check_positive_seconds(args.seconds)

@@ -18,6 +18,9 @@ range of the ratio over the repeats, and then where collisim's step spends its t
 per-phase profile, engine/profile.py, summed over the repeats).
 
     python -m collisim.analysis.bench.polygons [--seconds 8] [--repeats 3]
+
+`collisim bench polygons --scene bounding_volumes` times another scene of one world the same
+way, whole (its falling and pile phases are the polygons scene's).
 """
 from __future__ import annotations
 
@@ -30,10 +33,12 @@ BLOCK_STEPS = 30          # steps per timed block: half a simulated second at 60
 FALLING_SECONDS = 2.0     # the bodies are in the air until about here; a pile afterwards
 
 
-def load_world():
-    """(World, fps) of scenes/polygons.py."""
+def load_world(name: str = "polygons"):
+    """(World, fps) of a scene with one world (by default scenes/polygons.py)."""
     from collisim.model.scenefile import load_scene
-    scene = load_scene("polygons")
+    scene = load_scene(name)
+    if scene.world is None:
+        raise ValueError(f"scene '{name}' is made of panels or chapters; bench polygons needs one world")
     return scene.world, scene.fps
 
 
@@ -54,8 +59,11 @@ def steppers(world, fps: float, profile=None) -> dict:
     return {"collisim": advance_collisim, "pymunk": lambda steps: plain.time_steps(fps, steps)}
 
 
-def phases(seconds: float) -> dict:
-    """{phase name: (first, last) simulated seconds}: falling, pile (if the run reaches it), all."""
+def phases(seconds: float, falling: bool = True) -> dict:
+    """{phase name: (first, last) simulated seconds}: falling, pile (if the run reaches it), all;
+    without `falling` (a scene other than polygons) the whole scene only."""
+    if not falling:
+        return {"whole scene": (0.0, seconds)}
     split = min(FALLING_SECONDS, seconds)
     found = {"falling": (0.0, split)}
     if seconds > split:
@@ -77,7 +85,7 @@ def time_once(world, fps: float, seconds: float, profile=None) -> dict:
     return {name: (starts / fps, spent[name], counts) for name in advance}
 
 
-def run(seconds: float = 8.0, repeats: int = 3, world=None, fps=None) -> tuple[list[dict], dict]:
+def run(seconds: float = 8.0, repeats: int = 3, world=None, fps=None, falling: bool = True) -> tuple[list[dict], dict]:
     """(rows, profile): rows {phase, collisim_ms, pymunk_ms (medians per step over repeats),
     ratio_low, ratio_high, ratios} for each phase of the polygons scene (or of `world` at `fps`),
     and collisim's seconds per phase of its step over all the repeats."""
@@ -91,7 +99,7 @@ def run(seconds: float = 8.0, repeats: int = 3, world=None, fps=None) -> tuple[l
     profile = Profile()
     runs = [time_once(world, fps, seconds, profile) for _ in range(int(repeats))]
     rows = []
-    for name, (first, last) in phases(seconds).items():
+    for name, (first, last) in phases(seconds, falling).items():
         per_step = {engine: [] for engine in runs[0]}
         for timed in runs:
             for engine, (starts, spent, counts) in timed.items():
@@ -104,8 +112,8 @@ def run(seconds: float = 8.0, repeats: int = 3, world=None, fps=None) -> tuple[l
     return rows, dict(profile.seconds)
 
 
-def format_rows(rows: list[dict], bodies: int, profile: dict | None = None) -> str:
-    lines = [f"polygons scene, {bodies} bodies, one step a frame at 60 fps; "
+def format_rows(rows: list[dict], bodies: int, profile: dict | None = None, scene: str = "polygons") -> str:
+    lines = [f"{scene} scene, {bodies} bodies, one step a frame at 60 fps; "
              f"ratio = collisim step / plain pymunk step (range over {len(rows[0]['ratios'])} repeats)",
              f"{'phase':<24} {'collisim ms/step':>16} {'pymunk ms/step':>15} {'ratio':>13}"]
     for row in rows:

@@ -1,0 +1,242 @@
+"""The slides' hierarchy of bounding volumes: a candidate pair is tested against its bodies'
+bounding circles, then their axis-aligned boxes, then their oriented boxes, then the exact shapes,
+and goes on to the next level only while it passes. Each level is tighter and dearer than the one
+before: a circle test is one distance, a box test four comparisons, an oriented box test four
+projections (separating axes), the exact test a polygon's every edge.
+
+A pair's *level* is how many of the four tests it passes in that order (0: its bounding circles
+are apart; 4: the shapes touch). Counted over a state's pairs, counts[l] is how many pairs pass
+level l, so counts never rise down the funnel; counts[3] are the pairs that truly touch, and
+(counts[l] - counts[3]) / counts[l] is level l's false-positive rate.
+
+The volumes are conservative: every pair whose shapes touch passes every level. A polygon's
+volumes are computed from rotated vertices, so each is grown by SLACK of its body's bounding
+radius: round-off can then never reject a pair the exact test finds touching (a pair that close
+is a false positive only at the scale of SLACK). A circle's bounding circle is the circle itself
+(tested exactly, as the exact level does), its box and oriented box the square around it.
+
+The exact level is the narrow phase's own touching tests (narrowphase/circles.py, polygons.py):
+touching counts, as depth >= 0 does in the manifolds.
+
+The pairs are those whose bounding circles' boxes overlap, found by the world's broad phase, so
+a state's counts cost one broad-phase query and a pass over its pairs (record_levels, called by
+the discrete engine once per recorded frame).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from ..broadphase.step import candidate_pairs
+from ..geometry.polygon import oriented_box, place_polygons, polygon_bounds
+from ..model.kinds import CIRCLE
+from ..model.trajectory import LEVELS, NOT_COUNTED
+from .circles import circles_touch
+from .polygons import polygon_circle_touch, polygons_touch
+
+SLACK = 1e-9         # polygons' volumes grown by this share of their bounding radius (see above)
+# a body's volumes, one row each: its box, then its oriented box's centre, axis and half extents
+XMIN, YMIN, XMAX, YMAX, CX, CY, UX, UY, HALF_W, HALF_H = range(10)
+
+
+@njit(cache=True, error_model="numpy")
+def body_volumes(shapes, positions, angles, radii, body_vertices, vertex_start, vertices, volumes):
+    """Each body's box and oriented box in the world, into volumes (n, 10) (columns above).
+    vertices (V, 2): the polygons' world vertices at these poses (place_polygons)."""
+    for i in range(positions.shape[0]):
+        x, y, r = positions[i, 0], positions[i, 1], radii[i]
+        grow = SLACK * r
+        if shapes[i] == CIRCLE:
+            volumes[i, XMIN], volumes[i, YMIN], volumes[i, XMAX], volumes[i, YMAX] = x - r, y - r, x + r, y + r
+            volumes[i, CX], volumes[i, CY], volumes[i, UX], volumes[i, UY] = x, y, 1.0, 0.0
+            volumes[i, HALF_W], volumes[i, HALF_H] = r, r
+        else:
+            s, e = vertex_start[i], vertex_start[i + 1]
+            xmin, ymin, xmax, ymax = polygon_bounds(vertices[s:e])
+            volumes[i, XMIN], volumes[i, YMIN], volumes[i, XMAX], volumes[i, YMAX] = xmin, ymin, xmax, ymax
+            cx, cy, half_w, half_h, turn = oriented_box(body_vertices[s:e])
+            c, sn = math.cos(angles[i]), math.sin(angles[i])
+            volumes[i, CX], volumes[i, CY] = x + c * cx - sn * cy, y + sn * cx + c * cy
+            volumes[i, UX], volumes[i, UY] = math.cos(angles[i] + turn), math.sin(angles[i] + turn)
+            volumes[i, HALF_W], volumes[i, HALF_H] = half_w, half_h
+        volumes[i, XMIN] -= grow
+        volumes[i, YMIN] -= grow
+        volumes[i, XMAX] += grow
+        volumes[i, YMAX] += grow
+        volumes[i, HALF_W] += grow
+        volumes[i, HALF_H] += grow
+    return volumes
+
+
+@njit(cache=True, error_model="numpy")
+def _circles_overlap(shapes, positions, radii, i, j):
+    if shapes[i] == CIRCLE and shapes[j] == CIRCLE:
+        return circles_touch(positions, radii, i, j)     # the bounding circles are the shapes
+    ri = radii[i] * (1.0 + SLACK) if shapes[i] != CIRCLE else radii[i]
+    rj = radii[j] * (1.0 + SLACK) if shapes[j] != CIRCLE else radii[j]
+    dx, dy = positions[j, 0] - positions[i, 0], positions[j, 1] - positions[i, 1]
+    return dx * dx + dy * dy <= (ri + rj) * (ri + rj)
+
+
+@njit(cache=True, error_model="numpy")
+def _boxes_overlap(volumes, i, j):
+    return (volumes[i, XMIN] <= volumes[j, XMAX] and volumes[j, XMIN] <= volumes[i, XMAX]
+            and volumes[i, YMIN] <= volumes[j, YMAX] and volumes[j, YMIN] <= volumes[i, YMAX])
+
+
+@njit(cache=True, error_model="numpy")
+def _reach(volumes, i, lx, ly):
+    """Half the width of body i's oriented box along the unit axis (lx, ly)."""
+    ux, uy = volumes[i, UX], volumes[i, UY]
+    return volumes[i, HALF_W] * abs(ux * lx + uy * ly) + volumes[i, HALF_H] * abs(ux * ly - uy * lx)
+
+
+@njit(cache=True, error_model="numpy")
+def _oriented_overlap(volumes, i, j):
+    """Separating axes of two rectangles: their four side directions. Touching counts."""
+    dx, dy = volumes[j, CX] - volumes[i, CX], volumes[j, CY] - volumes[i, CY]
+    for k in range(4):
+        body = i if k < 2 else j
+        ux, uy = volumes[body, UX], volumes[body, UY]
+        lx, ly = (ux, uy) if k % 2 == 0 else (-uy, ux)
+        if abs(dx * lx + dy * ly) > _reach(volumes, i, lx, ly) + _reach(volumes, j, lx, ly):
+            return False
+    return True
+
+
+@njit(cache=True, error_model="numpy")
+def _shapes_touch(shapes, positions, radii, vertices, start, i, j):
+    a, b = vertices[start[i]:start[i + 1]], vertices[start[j]:start[j + 1]]
+    if shapes[i] == CIRCLE and shapes[j] == CIRCLE:
+        return circles_touch(positions, radii, i, j)
+    if shapes[j] == CIRCLE:
+        return polygon_circle_touch(a, positions[j, 0], positions[j, 1], radii[j])
+    if shapes[i] == CIRCLE:
+        return polygon_circle_touch(b, positions[i, 0], positions[i, 1], radii[i])
+    return polygons_touch(a, b)
+
+
+@njit(cache=True, error_model="numpy")
+def passes(level, shapes, positions, radii, vertices, start, volumes, i, j):
+    """Does pair (i, j) pass `level` (an index into LEVELS) on its own?"""
+    if level == 0:
+        return _circles_overlap(shapes, positions, radii, i, j)
+    if level == 1:
+        return _boxes_overlap(volumes, i, j)
+    if level == 2:
+        return _oriented_overlap(volumes, i, j)
+    return _shapes_touch(shapes, positions, radii, vertices, start, i, j)
+
+
+@njit(cache=True, error_model="numpy")
+def pair_levels(shapes, positions, radii, vertices, start, volumes, pairs, levels):
+    """Each pair's level (k,): how many tests it passes down the funnel, stopping at the first
+    it fails. Returns levels."""
+    for p in range(pairs.shape[0]):
+        i, j = pairs[p, 0], pairs[p, 1]
+        level = 0
+        while level < 4 and passes(level, shapes, positions, radii, vertices, start, volumes, i, j):
+            level += 1
+        levels[p] = level
+    return levels
+
+
+@njit(cache=True, error_model="numpy")
+def each_level(shapes, positions, radii, vertices, start, volumes, pairs, out):
+    """Every level tested on its own for each pair: out (k, 4) bool. Returns out."""
+    for p in range(pairs.shape[0]):
+        for level in range(4):
+            out[p, level] = passes(level, shapes, positions, radii, vertices, start, volumes, pairs[p, 0], pairs[p, 1])
+    return out
+
+
+@njit(cache=True, error_model="numpy")
+def record_levels(bodies, broad, vertices, counts):
+    """counts (4,) <- how many pairs of the bodies' state pass each level (count_levels), for
+    worlds with polygons. A world of circles is NOT_COUNTED: every level of a pair of circles
+    is its bounding circle's, so the funnel would only repeat the touching pairs, at the cost
+    of a broad-phase query a frame (benchmarks/hierarchy.py)."""
+    if bodies.vertex_start[bodies.positions.shape[0]] == 0:
+        counts[:] = NOT_COUNTED
+    else:
+        count_levels(bodies, broad, vertices, counts)
+
+
+@njit(cache=True, error_model="numpy")
+def count_levels(bodies, broad, vertices, counts):
+    """counts (4,) <- how many pairs of the bodies' state (the engine's Bodies) pass each level.
+    broad: the engine's broad-phase state, which finds the pairs whose bounding circles' boxes
+    overlap; vertices: scratch (V, 2) for the polygons' world vertices."""
+    b = bodies
+    n = b.positions.shape[0]
+    counts[:] = 0
+    if n < 2:
+        return
+    place_polygons(b.body_vertices, b.vertex_start, b.positions, b.angles, vertices)
+    lo, hi = np.empty((n, 2)), np.empty((n, 2))
+    for i in range(n):
+        reach = b.radii[i] * (1.0 + 2.0 * SLACK)
+        for axis in range(2):
+            lo[i, axis], hi[i, axis] = b.positions[i, axis] - reach, b.positions[i, axis] + reach
+    pairs = candidate_pairs(broad, lo, hi)
+    volumes = body_volumes(b.shapes, b.positions, b.angles, b.radii, b.body_vertices, b.vertex_start, vertices,
+                           np.empty((n, 10)))
+    levels = pair_levels(b.shapes, b.positions, b.radii, vertices, b.vertex_start, volumes, pairs,
+                         np.empty(pairs.shape[0], np.int64))
+    for p in range(levels.shape[0]):
+        for level in range(levels[p]):
+            counts[level] += 1
+
+
+# --- for users, tests and overlays --------------------------------------------------------------
+
+def volumes_of(world, positions=None, angles=None) -> tuple:
+    """(world vertices (V, 2), volumes (n, 10)) of the world's bodies at these poses (default its
+    own): each body's box and oriented box (columns XMIN ... HALF_H)."""
+    positions = world.positions if positions is None else np.ascontiguousarray(positions, np.float64)
+    angles = world.angles if angles is None else np.ascontiguousarray(angles, np.float64)
+    vertices = world.placed_vertices(positions, angles)
+    volumes = body_volumes(world.shapes, positions, angles, world.radii, world.body_vertices, world.vertex_start,
+                           vertices, np.empty((world.n, 10)))
+    return vertices, volumes
+
+
+def hierarchy(world, positions=None, angles=None, pairs=None) -> dict:
+    """The funnel of a state: pairs (k, 2) (default: every pair whose bounding circles' boxes
+    overlap), each pair's level (k,) (how many of LEVELS it passes in order), each level on its
+    own `passes` (k, 4) bool (for tests: every touching pair passes every level), and counts (4,):
+    the pairs passing each level."""
+    from ..broadphase import find_pairs
+    positions = world.positions if positions is None else np.ascontiguousarray(positions, np.float64)
+    angles = world.angles if angles is None else np.ascontiguousarray(angles, np.float64)
+    if pairs is None:
+        reach = world.radii[:, None] * (1.0 + 2.0 * SLACK)
+        pairs = find_pairs("grid", positions - reach, positions + reach)
+    pairs = np.ascontiguousarray(np.asarray(pairs, np.int64).reshape(-1, 2))
+    vertices, volumes = volumes_of(world, positions, angles)
+    args = (world.shapes, positions, world.radii, vertices, world.vertex_start, volumes)
+    levels = pair_levels(*args, pairs, np.empty(len(pairs), np.int64))
+    alone = each_level(*args, pairs, np.empty((len(pairs), 4), np.bool_))
+    return {"pairs": pairs, "levels": levels, "passes": alone,
+            "counts": (levels[:, None] > np.arange(4)).sum(axis=0)}
+
+
+def world_counts(world) -> np.ndarray:
+    """The counts (4,) the discrete engine records for the world's own state (NOT_COUNTED for a
+    world of circles, as record_levels)."""
+    if world.n == 0 or not (world.shapes != CIRCLE).any():
+        return np.full(4, NOT_COUNTED, np.int64)
+    return hierarchy(world)["counts"].astype(np.int64)
+
+
+def false_positive_rates(counts) -> np.ndarray:
+    """Per level, over every frame of counts (F, 4) (Trajectory.hierarchy; frames not counted
+    are left out): the share of the pairs passing it whose shapes do not touch (NaN if none
+    passed)."""
+    counts = np.asarray(counts)
+    counts = counts[(counts >= 0).all(axis=1)]
+    passed = counts.sum(axis=0).astype(float)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(passed > 0, (passed - passed[3]) / passed, np.nan)

@@ -1,0 +1,124 @@
+"""The slides' bounding volumes drawn over a panel (scenes/bounding_volumes.py): each body's
+bounding circle, axis-aligned box and oriented box, the pairs whose volumes overlap while their
+shapes do not (false positives, marked in the colour of the last volume that let them through),
+and the funnel of counts per level beside the simulation.
+
+What is drawn is what narrowphase/hierarchy.py computes for the frame's state; the funnel's
+numbers are the Trajectory's (state.hierarchy, summed over the frames played by the panel's
+counters). Sizes follow the panel's `unit` (render/explain.py).
+"""
+from __future__ import annotations
+
+import copy
+import math
+
+import numpy as np
+
+from .. import palette
+from ..model.trajectory import LEVELS, NOT_COUNTED
+from ..narrowphase.hierarchy import CX, CY, HALF_H, HALF_W, UX, UY, XMAX, XMIN, YMAX, YMIN, hierarchy, volumes_of
+from . import explain, raster
+from .structures import width
+
+# the volumes' colours, coarsest first (the shapes themselves keep their own)
+COLORS = ((94, 172, 255), (120, 220, 160), (255, 160, 60))
+FALSE_POSITIVE = (240, 80, 80)
+SHORT = ("circles", "boxes", "oriented boxes")   # a false positive's tag: the last volume it passed
+
+
+def counters() -> dict:
+    """RenderSettings.counters that sum each level's pairs over the frames played (a frame not
+    counted adds nothing)."""
+    return {level: _counter(k) for k, level in enumerate(LEVELS)}
+
+
+def _counter(k: int):
+    return lambda before, after: max(int(after.hierarchy[k]), 0) if after.hierarchy is not None else 0
+
+
+def volumes_figure(world):
+    """A Figure's draw (place "box") of every body's three volumes and the frame's false-positive
+    and touching pairs, inside the box's outline (a body's circle at a wall reaches beyond it)."""
+    def draw(canvas, rect, view, state, unit):
+        inside, corner = raster.box_region(canvas, view, world.box)
+        _draw_volumes(inside, _shifted(view, corner), world, state, unit)
+    return draw
+
+
+def _shifted(view, corner):
+    """The view drawing into a region whose top-left pixel is `corner`."""
+    shifted = copy.copy(view)
+    shifted.origin_x, shifted.origin_y = view.origin_x - corner[0], view.origin_y - corner[1]
+    return shifted
+
+
+def _draw_volumes(canvas, view, world, state, unit) -> None:
+    _, volumes = volumes_of(world, state.positions, state.angles)
+    thin = width(unit, 0.5)
+    raster.draw_rings(canvas, view.to_pixels(state.positions), view.length(world.radii), COLORS[0], thin)
+    raster.draw_rects(canvas, view, volumes[:, [XMIN, YMIN]], volumes[:, [XMAX, YMAX]], COLORS[1], thin)
+    _oriented_boxes(canvas, view, volumes, COLORS[2], thin)
+    found = hierarchy(world, state.positions, state.angles)
+    pairs, levels = found["pairs"], found["levels"]
+    for level in (1, 2, 3):   # passed up to this volume, then rejected: false positives
+        chosen = pairs[levels == level]
+        if len(chosen):
+            ends = state.positions[chosen]
+            raster.draw_lines(canvas, view, ends[:, 0], ends[:, 1], FALSE_POSITIVE, width(unit, 1.25))
+            for i, j in chosen:
+                middle = view.to_pixels(0.5 * (state.positions[i] + state.positions[j]))
+                _tag(canvas, SHORT[level - 1], middle, unit, COLORS[level - 1])
+    touching = pairs[levels == 4]
+    if len(touching):
+        ends = state.positions[touching]
+        raster.draw_lines(canvas, view, ends[:, 0], ends[:, 1], palette.HIGHLIGHT, width(unit, 1.25))
+
+
+def _oriented_boxes(canvas, view, volumes, color, thickness: int) -> None:
+    """Each oriented box's outline: its centre ± half extents along its axes."""
+    ux, uy = volumes[:, UX, None], volumes[:, UY, None]
+    along = np.array([1.0, -1.0, -1.0, 1.0])[None] * volumes[:, HALF_W, None]
+    across = np.array([1.0, 1.0, -1.0, -1.0])[None] * volumes[:, HALF_H, None]
+    xs = volumes[:, CX, None] + along * ux - across * uy
+    ys = volumes[:, CY, None] + along * uy + across * ux
+    corners = np.stack([xs, ys], axis=-1)                       # (n, 4, 2)
+    following = np.roll(corners, -1, axis=1)
+    raster.draw_lines(canvas, view, corners.reshape(-1, 2), following.reshape(-1, 2), color, thickness)
+
+
+def _tag(canvas, text: str, centre_px, unit: float, color) -> None:
+    image = explain.text_image(text, 0.85 * explain.NOTE_PIXELS * unit)
+    left = int(round(centre_px[0] - image.shape[1] / 2))
+    top = int(round(centre_px[1] - image.shape[0] - 3 * unit))
+    explain.paste(canvas, image, left, top, color, 1.0)
+
+
+def funnel_figure(canvas, rect, view, state, unit) -> None:
+    """A Figure's draw (place "side"): per level, a bar as long as its share of the pairs whose
+    bounding circles overlapped, over every frame played so far, with the count and the share of
+    false positives (passing pairs whose shapes do not touch), and this frame's count."""
+    x, y, w, h = rect
+    totals = [state.counters.get(level, 0) for level in LEVELS]
+    now = state.hierarchy if state.hierarchy is not None else np.full(4, NOT_COUNTED)
+    pad = explain.margin(unit)
+    row = (h - 3 * pad) / (len(LEVELS) + 1)
+    room = w - 2 * pad
+    _text(canvas, "the funnel, all frames so far", x + pad, y + pad, unit, palette.TEXT, room)
+    for k, level in enumerate(LEVELS):
+        top = y + 2 * pad + (k + 1) * row
+        false = 1.0 - totals[3] / totals[k] if totals[k] else math.nan
+        share = totals[k] / totals[0] if totals[0] else 0.0
+        color = COLORS[k] if k < 3 else palette.HIGHLIGHT
+        _text(canvas, f"{level}: {totals[k]}", x + pad, top - 0.55 * row, unit, color, room)
+        bar = max(share * room, 1.0)
+        raster.draw_rect_px(canvas, (x + pad, top - 0.2 * row), (x + pad + bar, top + 0.05 * row), color, -1)
+        note = f"now {now[k]}" if now[k] != NOT_COUNTED else ""
+        if k < 3 and not math.isnan(false):
+            note += f", {false:.0%} false positives"
+        _text(canvas, note, x + pad, top + 0.12 * row, unit, palette.DIM_TEXT, room)
+
+
+def _text(canvas, text: str, left: float, top: float, unit: float, color, room: float) -> None:
+    if text:
+        image = explain.fit_width(explain.text_image(text, 0.85 * explain.NOTE_PIXELS * unit), room)
+        explain.paste(canvas, image, int(round(left)), int(round(top)), color, 1.0)
