@@ -66,7 +66,7 @@ def margins(velocities, angular_velocities, accelerations, radii, dt, out):
         out[i] = max(min(speed * dt + pull * dt * dt, radii[i]), MARGIN * radii[i])
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _effective_masses(rows, r, masses, inertias):
     """Row r's effective masses along the normal and the tangent: 1 / (the velocity change at the
     point along that direction per unit impulse along it)."""
@@ -79,7 +79,7 @@ def _effective_masses(rows, r, masses, inertias):
     rows.mass[r], rows.mass_t[r] = 1.0 / normal, 1.0 / tangent
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _set_levers(rows, r, ax_i, ay_i, ax_j, ay_j, masses, inertias):
     """Row r's levers from the point's arms from each centre, and its effective masses."""
     nx, ny = rows.normal[r, 0], rows.normal[r, 1]
@@ -91,7 +91,7 @@ def _set_levers(rows, r, ax_i, ay_i, ax_j, ay_j, masses, inertias):
     _effective_masses(rows, r, masses, inertias)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _add(rows, r, i, j, wall, feature, nx, ny, gap, px, py, positions, masses, inertias, slop):
     """Row r: a contact point of bodies i and j (or a wall) at (px, py), `gap` apart along n."""
     rows.i[r], rows.j[r], rows.wall[r], rows.feature[r], rows.partner[r] = i, j, wall, feature, -1
@@ -103,7 +103,7 @@ def _add(rows, r, i, j, wall, feature, nx, ny, gap, px, py, positions, masses, i
     rows.hit[r] = rows.impulse[r] = rows.friction[r] = rows.pseudo[r] = 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _add_manifold(rows, count, m, i, j, wall, margin, positions, masses, inertias, slop):
     """The points of manifold m closer than margin, as rows from `count`. Returns the new count."""
     nx, ny, points = m[0], m[1], m[2]
@@ -137,7 +137,7 @@ def _circles_at_contact(positions, velocities, radii, i, j, dt, m):
     return nx, ny, 1, -gap, x + radii[i] * nx, y + radii[i] * ny, 0.0, 0.0, 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _on_line_of_centres(rows, r, radius_i, radius_j, masses, inertias):
     """Row r of two circles (or a circle and a wall, radius_j 0): they touch on their line of
     centres, so a push along it turns neither (lever exactly 0: the product of the rounded arm
