@@ -304,14 +304,21 @@ def come_to_rest(rows, count, lin, ang, masses, inertias, friction, iterations):
         return
     I, J, N, L, impulses, frictions = rows.i, rows.j, rows.normal, rows.lever, rows.impulse, rows.friction
     mass, mass_t = rows.mass, rows.mass_t
-    for _ in range(iterations):
+    for _ in range(iterations):   # a sweep that changes nothing ends it: the next would too
+        changed = False
         for r in range(count):
             if pressed[r]:
                 i, j, nx, ny = I[r], J[r], N[r, 0], N[r, 1]
                 total = max(impulses[r] - mass[r] * relative(lin, ang, i, j, nx, ny, L[r, 0], L[r, 2]), 0.0)
-                apply(lin, ang, masses, inertias, i, j, nx, ny, L[r, 0], L[r, 1], L[r, 2], L[r, 3],
-                      total - impulses[r], 0.0)
-                impulses[r] = total
+                if total != impulses[r]:
+                    apply(lin, ang, masses, inertias, i, j, nx, ny, L[r, 0], L[r, 1], L[r, 2], L[r, 3],
+                          total - impulses[r], 0.0)
+                    impulses[r] = total
+                    changed = True
                 if friction > 0.0:
-                    frictions[r] = _friction(lin, ang, masses, inertias, i, j, nx, ny, L[r, 0], L[r, 1], L[r, 2],
-                                             L[r, 3], mass_t[r], friction * total, frictions[r])
+                    slid = _friction(lin, ang, masses, inertias, i, j, nx, ny, L[r, 0], L[r, 1], L[r, 2], L[r, 3],
+                                     mass_t[r], friction * total, frictions[r])
+                    changed = changed or slid != frictions[r]
+                    frictions[r] = slid
+        if not changed:
+            break
