@@ -45,8 +45,6 @@ def test_a_clockwise_polygon_is_rewound_and_said_and_bad_ones_are_one_line():
         World([(5, 5), (5.9, 5)], polygons=[box(1, 1), box(1, 1)], box=(0, 0, 10, 10))
     with pytest.raises(ValueError, match="ccd covers circles"):
         collisim.simulate(Scene(world=World([(5, 5)], polygons=[box(1, 1)], box=(0, 0, 10, 10)), method="ccd"))
-    with pytest.raises(ValueError, match="segments and collision maps"):
-        World([(5, 5)], polygons=[box(1, 1)], segments=[[0, 1, 9, 1]], box=(0, 0, 10, 10))
 
 
 def test_a_tilted_box_resting_on_the_floor_is_inside_the_box():

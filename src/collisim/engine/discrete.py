@@ -32,11 +32,11 @@ from numba import njit
 from ..broadphase.step import AUTO, candidate_pairs, choose, step_state
 from ..geometry.box import centre_range
 from ..geometry.polygon import place_polygons
-from ..model.kinds import CIRCLE, MAP, PAIR, SEGMENT, WALL
+from ..model.kinds import CIRCLE, MAP, N_WALLS, PAIR, SEGMENT, WALL
 from ..narrowphase.hierarchy import NOT_COUNTED, record_levels
 from ..narrowphase.statics import segment_contacts
 from ..response.map import bounce_off_map, push_out
-from ..response.rows import margins, new_rows, pair_rows, wall_rows
+from ..response.rows import margins, near_segments, new_rows, pair_rows, segment_rows, wall_rows
 from ..response.solver import collide, come_to_rest, solve_positions, solve_velocities
 from ..response.warmstart import no_memory, recall, remember
 from ..response.statics import bounce_between_walls, bounce_off_segment
@@ -116,7 +116,8 @@ def _contact_phases(bodies, statics, broad, dt, margin, lo, hi, vertices, moved,
         _bounds(b, margin, lo, hi)
         pairs = sort_pairs(candidate_pairs(broad, lo, hi), n)
         t = _lap(phase_cycles, BROAD, t)
-    needed = 2 * pairs.shape[0] + 8 * n   # up to two points a pair, and a body and wall
+    near = near_segments(b, margin, statics.segments)
+    needed = 2 * (pairs.shape[0] + near) + 8 * n   # up to two points a pair, a polygon and segment, a body and wall
     if rows.i.shape[0] < needed:
         rows = new_rows(needed + needed // 2)   # kept from step to step: grown, never shrunk
     count = pair_rows(b, vertices, margin, dt, pairs, rows, moved)
@@ -124,6 +125,8 @@ def _contact_phases(bodies, statics, broad, dt, margin, lo, hi, vertices, moved,
     for r in range(count):
         in_pair[rows.i[r]] = in_pair[rows.j[r]] = True
     count = wall_rows(b, vertices, margin, statics.box, statics.rest_speed, in_pair, rows, count)
+    if near > 0:
+        count = segment_rows(b, vertices, margin, statics.segments, rows, count)
     t = _lap(phase_cycles, NARROW, t)
     return rows, count, pairs.shape[0], t
 
@@ -138,6 +141,11 @@ def _log_contacts(rows, count, log, now, frame_collisions):
         if rows.j[r] >= 0 and rows.hit[r] > 0.0:
             append(log, now, PAIR, rows.i[r], rows.j[r], impulse, rows.point[r, 0], rows.point[r, 1])
             frame_collisions[PAIR] += 1
+        elif rows.j[r] < 0 and rows.wall[r] >= N_WALLS:   # a polygon's impact on a segment
+            if rows.hit[r] > 0.0:
+                append(log, now, SEGMENT, rows.i[r], rows.wall[r] - N_WALLS, impulse, rows.point[r, 0],
+                       rows.point[r, 1])
+                frame_collisions[SEGMENT] += 1
         elif rows.j[r] < 0 and impulse > 0.0:
             append(log, now, WALL, rows.i[r], rows.wall[r], impulse, rows.point[r, 0], rows.point[r, 1])
             if rows.hit[r] > 0.0:
@@ -165,6 +173,8 @@ def statics_phase(bodies, statics, scratch, dt, log, now, frame_collisions):
         log = with_room(log, count)
         for c in range(count):
             i, k = found[c, 0], found[c, 1]
+            if b.shapes[i] != CIRCLE:
+                continue   # a polygon meets segments through the contact solver (segment_rows)
             impulse, x, y = bounce_off_segment(b.positions, b.velocities, b.radii, b.masses, s.segments, i, k,
                                                s.restitution)
             if impulse > 0.0:
@@ -244,7 +254,7 @@ def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, memor
             v, w, m, inertia = b.velocities, b.angular_velocities, b.masses, b.inertias
             collide(rows, count, v, w, b.accelerations, m, inertia, s.restitution, s.friction, s.rest_speed, dt,
                     s.iterations)
-            recall(rows, count, memory, n)
+            recall(rows, count, memory, n, N_WALLS + s.segments.shape[0])
             solve_velocities(rows, count, v, w, b.accelerations, m, inertia, s.friction, dt, s.iterations, push,
                              push_turn)
             solve_positions(rows, count, v, w, b.accelerations, m, inertia, dt, s.iterations, push, push_turn, shift,
@@ -256,7 +266,7 @@ def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, memor
             t = _lap(phase_cycles, INTEGRATE, t)
             come_to_rest(rows, count, v, w, m, inertia, s.friction, s.iterations)
             log = _log_contacts(rows, count, log, now, frame_collisions)
-            memory = remember(rows, count, n)
+            memory = remember(rows, count, n, N_WALLS + s.segments.shape[0])
             _mark_held(rows, count, scratch[3])
             t = _lap(phase_cycles, RESPONSE, t)
             log = statics_phase(b, s, scratch, dt, log, now, frame_collisions)
@@ -306,7 +316,7 @@ def _mark_held(rows, count, held):
     """held (n, 2): the axes on which a wall row held each body this step."""
     held[:] = False
     for r in range(count):
-        if rows.j[r] < 0 and rows.impulse[r] > 0.0:
+        if rows.j[r] < 0 and rows.wall[r] < N_WALLS and rows.impulse[r] > 0.0:
             held[rows.i[r], rows.wall[r] // 2] = True
 
 

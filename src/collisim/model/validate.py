@@ -97,6 +97,7 @@ def no_overlaps(world) -> None:
                              f"place them apart or touching")
     if len(world.segments):
         pairs, depths = touching_segments(world.positions, world.radii, world.segments, world.box)
+        depths = _polygon_depths(world, pairs, depths)
         deep = np.flatnonzero(depths > world.radii[pairs[:, 0]] * TOUCH_TOLERANCE)
         if deep.size:
             i, s = pairs[deep[0]]
@@ -104,6 +105,20 @@ def no_overlaps(world) -> None:
                              f"place it apart or touching")
     if world.map is not None:
         _outside_map(world)
+
+
+def _polygon_depths(world, pairs, depths):
+    """depths of (body, segment) pairs found by bounding circles, exact for polygon bodies."""
+    from ..model.kinds import CIRCLE
+    from ..narrowphase.manifold import polygon_segment_manifold
+    polygons = np.flatnonzero(world.shapes[pairs[:, 0]] != CIRCLE)
+    if polygons.size == 0:
+        return depths
+    depths, vertices = depths.copy(), world.placed_vertices()
+    for row in polygons:   # a start-up check, once per world: not a hot path
+        m = polygon_segment_manifold(vertices, world.vertex_start, pairs[row, 0], world.segments, pairs[row, 1], 0.0)
+        depths[row] = m[3] if m[2] > 0 else -1.0
+    return depths
 
 
 def _outside_map(world) -> None:

@@ -152,9 +152,9 @@ class World:
             i = np.flatnonzero(outside)[0]
             x, y = self.positions[i]
             raise ValueError(f"particle {i} at ({x:g}, {y:g}) with radius {self.radii[i]:g} is outside the box")
-        if np.any(self.shapes == POLYGON) and (len(self.segments) or self.map is not None):
-            raise ValueError("polygon bodies meet the box walls and each other; segments and collision maps "
-                             "collide with circles only: leave them out of a world with polygons")
+        if np.any(self.shapes == POLYGON) and self.map is not None:
+            raise ValueError("polygon bodies meet the box walls, segments and each other; collision maps "
+                             "collide with circles only: leave the map out of a world with polygons")
         validate.no_overlaps(self)
 
     def copy(self, **changes) -> "World":

@@ -18,9 +18,10 @@ from numba import njit
 
 from ..model.kinds import CIRCLE
 from .circles import circle_circle
-from .polygons import box_wall_halfplane, polygon_circle, polygon_halfplane, polygon_polygon
+from .polygons import box_wall_halfplane, polygon_circle, polygon_halfplane, polygon_polygon, polygon_segment
 
 NONE = (1.0, 0.0, 0, -np.inf, 0.0, 0.0, 0.0, 0.0, 0.0)
+TOUCH = 1e-12   # of the coordinates' size: past any rounding of a shape moved to touch another
 
 
 @njit(cache=True)
@@ -95,3 +96,24 @@ def polygon_wall_manifold(vertices, start, i, box, wall, margin):
     if m[2] == 0:
         return NONE
     return _given_back(m, margin)
+
+
+@njit(cache=True)
+def polygon_segment_manifold(vertices, start, i, segments, k, margin):
+    """The manifold of polygon body i and segment k of segments (m, 4) (normal from the polygon
+    toward the segment), with speculative points up to `margin` apart; count 0 if farther.
+    The segment is a two-sided polygon of two vertices."""
+    a = vertices[start[i]:start[i + 1]]
+    x0, y0, x1, y1 = segments[k, 0], segments[k, 1], segments[k, 2], segments[k, 3]
+    m = polygon_segment(a, x0, y0, x1, y1)
+    gap = -m[3]
+    if gap >= margin:
+        return NONE
+    # Taken where the segment overlaps the polygon by a hair, then moved back: at an exact
+    # touch, rounding leaves a long segment's face points a hair outside the polygon's face,
+    # and the clipping would keep neither.
+    back = gap + TOUCH * (1.0 + max(abs(x0), abs(y0), abs(x1), abs(y1)))
+    touching = polygon_segment(a, x0 - back * m[0], y0 - back * m[1], x1 - back * m[0], y1 - back * m[1])
+    if touching[2] == 0:
+        return NONE
+    return _given_back(touching, back)

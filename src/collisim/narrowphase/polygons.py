@@ -199,7 +199,10 @@ def polygon_polygon(a, b):
     separation_b, face_b, deepest_a = _max_separation(b, a)
     if separation_a > 0.0 or separation_b > 0.0:
         distance, ax, ay, bx, by = _closest_points(a, b)
-        return _apart(ax, ay, bx, by, distance)
+        if distance > 0.0:
+            return _apart(ax, ay, bx, by, distance)
+        # an axis separates them by a rounding error while a vertex lies on the other: they
+        # touch (no normal joins two closest points that coincide), so the faces' manifold
     tolerance = FACE_TOLERANCE * min(_edge_length(a, face_a), _edge_length(b, face_b))
     flip = separation_b > separation_a + tolerance
     ref, face, inc, deepest = (b, face_b, a, deepest_a) if flip else (a, face_a, b, deepest_b)

@@ -6,6 +6,8 @@ Rows are made from the state at the *start* of the step, before anything moves:
   speculative margins, `margins`): a pair still apart gives *speculative* rows, which only act
   if the step would close the gap past zero (so an impact stops the bodies where they meet
   instead of sinking one into the other, and a ball resting on a ball is held by it);
+* a polygon and a segment within its margin (segment_rows; circles meet segments in the
+  statics phase, response/statics.py);
 * a body and a box wall: a polygon within its margin of the wall always; a circle when it is
   within its margin and either meets the wall slower than the rest speed (it rests there) or
   touches another body this step (a pile must be held by the floor in the same solve as by its
@@ -26,8 +28,8 @@ from numba import njit
 
 from ..geometry.box import wall_geometry
 from ..geometry.toi import time_to_pair
-from ..model.kinds import CIRCLE
-from ..narrowphase.manifold import pair_manifold, polygon_wall_manifold
+from ..model.kinds import CIRCLE, N_WALLS
+from ..narrowphase.manifold import pair_manifold, polygon_segment_manifold, polygon_wall_manifold
 
 SLOP = 0.005   # of the smaller radius: an overlap the solver tolerates between bodies (solver.py)
 MARGIN = 0.01  # of the radius: every body's smallest speculative margin (a resting pile that falls
@@ -35,8 +37,8 @@ MARGIN = 0.01  # of the radius: every body's smallest speculative margin (a rest
 
 Rows = namedtuple("Rows", ["i", "j", "wall", "feature", "partner", "normal", "point", "lever", "gap",
                            "mass", "mass_t", "hit", "impulse", "friction", "pseudo", "slop"])
-Rows.__doc__ = """Contact rows, each (k,) or (k, 2): i, j the bodies (j = -1 for a wall row, whose side is
-`wall`, else -1); feature the point's number in its manifold (0 or 1); partner the row of the
+Rows.__doc__ = """Contact rows, each (k,) or (k, 2): i, j the bodies (j = -1 for a row of a static: `wall`
+is the box wall's side, or N_WALLS + k for segment k; else -1); feature the point's number in its manifold (0 or 1); partner the row of the
 manifold's other point, or -1; normal unit, from i toward j (into the wall); point where they
 meet; lever (k, 4) the turning lever of the point about each centre, arm × n and arm × t for body i
 then body j (0 for a wall): a unit impulse along n turns body i by -lever[0]/I_i, and the point's
@@ -195,3 +197,45 @@ def wall_rows(bodies, vertices, margin, box, rest_speed, in_pair, rows, start):
             _on_line_of_centres(rows, count, b.radii[i], 0.0, b.masses, b.inertias)
             count += 1
     return count
+
+
+@njit(cache=True)
+def segment_rows(bodies, vertices, margin, segments, rows, start):
+    """Append after rows[:start] the rows of polygons within their margin of a segment (m, 4):
+    j = -1, wall = N_WALLS + the segment's number. Returns the new row count. A segment, like a
+    wall, cannot give way: no overlap is tolerated."""
+    b = bodies
+    count = start
+    for i in range(b.positions.shape[0]):
+        if b.shapes[i] == CIRCLE:
+            continue
+        x, y, reach = b.positions[i, 0], b.positions[i, 1], b.radii[i] + margin[i]
+        for k in range(segments.shape[0]):
+            if _beyond(segments, k, x, y, reach):
+                continue
+            m = polygon_segment_manifold(vertices, b.vertex_start, i, segments, k, margin[i])
+            count = _add_manifold(rows, count, m, i, -1, N_WALLS + k, margin[i], b.positions, b.masses, b.inertias,
+                                  0.0)
+    return count
+
+
+@njit(cache=True)
+def _beyond(segments, k, x, y, reach):
+    """Is segment k farther than reach from (x, y)? (Its box, grown by reach, misses the point.)"""
+    x0, y0, x1, y1 = segments[k, 0], segments[k, 1], segments[k, 2], segments[k, 3]
+    return (x < min(x0, x1) - reach or x > max(x0, x1) + reach or y < min(y0, y1) - reach
+            or y > max(y0, y1) + reach)
+
+
+@njit(cache=True)
+def near_segments(bodies, margin, segments):
+    """How many (polygon, segment) pairs are near enough for segment_rows to look at."""
+    b = bodies
+    near = 0
+    if segments.shape[0] == 0:
+        return 0
+    for i in range(b.positions.shape[0]):
+        if b.shapes[i] != CIRCLE:
+            for k in range(segments.shape[0]):
+                near += not _beyond(segments, k, b.positions[i, 0], b.positions[i, 1], b.radii[i] + margin[i])
+    return near

@@ -17,6 +17,8 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
+from ..model.kinds import N_WALLS
+
 Memory = namedtuple("Memory", ["keys", "impulses", "frictions"])
 Memory.__doc__ = """Last step's impulses of its resting contacts: keys (k,) int64 ascending (row_key)
 and their accumulated normal and friction impulses (k,)."""
@@ -28,33 +30,34 @@ def no_memory():
 
 
 @njit(cache=True)
-def row_key(rows, r, n):
-    """A number naming row r's contact point among n bodies, the same from step to step: the
-    pair (i, j) or body i and a wall, and the point's number in their manifold."""
+def row_key(rows, r, n, statics=N_WALLS):
+    """A number naming row r's contact point among n bodies and `statics` walls and segments, the
+    same from step to step: the pair (i, j) or body i and a wall or segment (rows.wall), and the
+    point's number in their manifold."""
     other = rows.j[r] if rows.j[r] >= 0 else n + rows.wall[r]
-    return 2 * (rows.i[r] * (n + 4) + other) + rows.feature[r]
+    return 2 * (rows.i[r] * (n + statics) + other) + rows.feature[r]
 
 
 @njit(cache=True)
-def remember(rows, count, n):
+def remember(rows, count, n, statics=N_WALLS):
     """The impulses of this step's pressed rows that were not impacts."""
     keys, impulses, frictions = np.empty(count, np.int64), np.empty(count), np.empty(count)
     k = 0
     for r in range(count):
         if rows.hit[r] == 0.0 and rows.impulse[r] > 0.0:
-            keys[k], impulses[k], frictions[k] = row_key(rows, r, n), rows.impulse[r], rows.friction[r]
+            keys[k], impulses[k], frictions[k] = row_key(rows, r, n, statics), rows.impulse[r], rows.friction[r]
             k += 1
     order = np.argsort(keys[:k])   # rows are in canonical order, but pairs and walls interleave keys
     return Memory(keys[:k][order], impulses[:k][order], frictions[:k][order])
 
 
 @njit(cache=True)
-def recall(rows, count, memory, n):
+def recall(rows, count, memory, n, statics=N_WALLS):
     """Each row's starting impulse: what its contact had last step, 0 if it had none."""
     for r in range(count):
         rows.impulse[r], rows.friction[r] = 0.0, 0.0
         if memory.keys.shape[0] > 0:
-            key = row_key(rows, r, n)
+            key = row_key(rows, r, n, statics)
             at = np.searchsorted(memory.keys, key)
             if at < memory.keys.shape[0] and memory.keys[at] == key:
                 rows.impulse[r], rows.friction[r] = memory.impulses[at], memory.frictions[at]
