@@ -8,6 +8,9 @@ import collisim
 from collisim.analysis import metrics
 from collisim.engine.ccd.events import simulate_events
 from collisim.geometry.segment import segment_contact
+from collisim.model.kinds import N_WALLS, SEGMENT, SUPPORT, WALL
+from collisim.pipeline import scene_chapters
+from collisim.render.player import draw_frame, make_players
 
 G = 9.81
 
@@ -23,8 +26,9 @@ def test_the_floor_carries_the_weight_of_a_body_at_rest_on_it():
     perimeter = 2 * (10 + 10)
     weight = world.masses[0] * G
     assert metrics.wall_pressure(traj) * perimeter == pytest.approx(weight, rel=1e-9)
-    # m·g·dt each frame, on the floor, under the body, not counted as a collision
-    floor = traj.events.impulse[traj.events.j == 2]
+    # m·g·dt each frame, on the floor, under the body, a support and not a collision
+    assert np.all(traj.events.kind == SUPPORT) and np.all(traj.events.j == 2)
+    floor = traj.events.impulse
     np.testing.assert_allclose(floor, weight / 60, rtol=1e-9)
     assert len(floor) == traj.frames and traj.wall_collisions.sum() == 0
     np.testing.assert_allclose(traj.events.point, np.tile([5.0, 0.0], (traj.frames, 1)))
@@ -35,26 +39,64 @@ def test_bounces_then_rest_give_the_floor_the_momentum_balance():
     world, traj = ccd([[5.0, 6.0]], restitution=0.6, seconds=6.0)
     assert traj.velocities[-1, 0, 1] == 0.0 and traj.positions[-1, 0, 1] == 0.5   # at rest by then
     duration = traj.times[-1]
-    floor = traj.events.impulse[(traj.events.kind == 0) & (traj.events.j == 2)].sum()
+    bounces, support = (traj.events.kind == WALL), (traj.events.kind == SUPPORT)
+    assert np.all(traj.events.j[bounces | support] == 2) and bounces.sum() == traj.wall_collisions.sum() > 3
+    floor = traj.events.impulse[bounces | support].sum()
     assert floor == pytest.approx(world.masses[0] * G * duration, rel=1e-9)
+    assert metrics.wall_pressure(traj) * 2 * (10 + 10) * duration == pytest.approx(floor, rel=1e-12)
 
 
 def test_a_segment_carries_a_ball_at_rest_and_a_vee_carries_a_wedged_ball():
     shelf = [[2.0, 4.0, 8.0, 4.0]]
     world, traj = ccd([[5.0, 4.5]], segments=shelf)
-    impulse = traj.events.impulse[traj.events.kind == 2].sum()
+    impulse = traj.events.impulse[(traj.events.kind == SEGMENT) | (traj.events.kind == SUPPORT)].sum()
     assert impulse == pytest.approx(world.masses[0] * G * traj.times[-1], rel=1e-9)
+    assert np.all(traj.events.j[traj.events.kind == SUPPORT] == N_WALLS + 0)   # the shelf, segment 0
 
     vee = np.array([[1.0, 6.0, 5.0, 2.0], [5.0, 2.0, 9.0, 6.0]])
     world, traj = ccd([[3.0, 8.0]], segments=vee, velocities=[[0.3, 0.0]], seconds=10.0)
     assert np.all(traj.velocities[-1] == 0.0)
     # from when it is wedged on, the two sides' impulses add up to the weight: m g per second
-    late = (traj.events.kind == 2) & (traj.events.time > 8.0)
+    late = (traj.events.kind == SUPPORT) & (traj.events.time > 8.0)
+    assert not np.any((traj.events.kind == SEGMENT) & (traj.events.time > 8.0))   # no more impacts
     lift = 0.0
-    for j, impulse, point in zip(traj.events.j[late], traj.events.impulse[late], traj.events.point[late]):
-        ny = segment_contact(*traj.positions[-1, 0], vee[j])[1]
+    for j, impulse in zip(traj.events.j[late], traj.events.impulse[late]):
+        ny = segment_contact(*traj.positions[-1, 0], vee[j - N_WALLS])[1]
         lift += impulse * ny
     assert lift == pytest.approx(world.masses[0] * G * 2.0, rel=1e-9)
+
+
+def drawn(scene, frames, flash):
+    """The player's canvases of `frames` with the impact rings on or off (no HUD)."""
+    scene = scene.replace(render=collisim.RenderSettings(hud=False, flash=flash))
+    size = (480, 480)
+    players = make_players(scene_chapters(scene)[0], size, scene.fps)
+    canvases = []
+    for f in range(max(frames) + 1):
+        canvas = np.zeros((size[1], size[0], 3), np.uint8)
+        draw_frame(canvas, players, f)
+        if f in frames:
+            canvases.append(canvas)
+    return canvases
+
+
+def test_a_body_at_rest_flashes_no_ring_but_its_first_impact_does():
+    # dropped with e = 0 from 0.1 above the floor: it lands at t = sqrt(0.2 / g) = 0.143 s (frame
+    # 9), rests there, and from then on only its support is logged, every frame
+    world = collisim.World(positions=[[5.0, 0.6]], radii=0.5, box=(0, 0, 10, 10), gravity=(0, -G), restitution=0.0)
+    scene = collisim.Scene(world=world, fps=60, seconds=1.0, method="ccd")
+    traj = collisim.simulate(scene)
+    impacts = traj.events.time[traj.events.kind == WALL]
+    assert len(impacts) == 1 and impacts[0] == pytest.approx(math.sqrt(0.2 / G), rel=1e-12)
+    assert np.all(traj.events.kind[traj.events.time > impacts[0]] == SUPPORT)
+    landing = int(math.ceil(impacts[0] * 60))
+    frames = [landing, landing + 12, 40, 60]   # the landing, then after its ring has faded (FLASH_SECONDS)
+    rings, plain = drawn(scene, frames, True), drawn(scene, frames, False)
+    assert np.any(rings[0] != plain[0])                      # the landing flashes
+    for with_rings, without in zip(rings[1:], plain[1:]):    # resting does not, though logged each frame
+        np.testing.assert_array_equal(with_rings, without)
+    # the floor's impulse over [0, T] is m g T + m (v(T) - v(0)) = m g T: the pressure is still m·g
+    assert metrics.wall_pressure(traj) * 2 * (10 + 10) == pytest.approx(world.masses[0] * G, rel=1e-9)
 
 
 def test_tc_model_makes_collisions_within_tc_of_the_last_elastic():

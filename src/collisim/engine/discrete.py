@@ -31,7 +31,7 @@ from numba import njit
 from ..broadphase.step import AUTO, candidate_pairs, choose, step_state
 from ..geometry.box import centre_range
 from ..geometry.polygon import place_polygons
-from ..model.kinds import CIRCLE, MAP, PAIR, SEGMENT, WALL
+from ..model.kinds import CIRCLE, MAP, PAIR, SEGMENT, SUPPORT, WALL
 from ..narrowphase.statics import segment_contacts
 from ..response.map import bounce_off_map, push_out
 from ..response.rows import margins, new_rows, pair_rows, wall_rows
@@ -136,7 +136,8 @@ def _log_contacts(rows, count, log, now, frame_collisions):
             append(log, now, PAIR, rows.i[r], rows.j[r], impulse, rows.point[r, 0], rows.point[r, 1])
             frame_collisions[PAIR] += 1
         elif rows.j[r] < 0 and impulse > 0.0:
-            append(log, now, WALL, rows.i[r], rows.wall[r], impulse, rows.point[r, 0], rows.point[r, 1])
+            append(log, now, WALL if rows.hit[r] > 0.0 else SUPPORT, rows.i[r], rows.wall[r], impulse,
+                   rows.point[r, 0], rows.point[r, 1])
             if rows.hit[r] > 0.0:
                 frame_collisions[WALL] += 1
     return log
