@@ -8,8 +8,10 @@
   largest overlap, the pile height against hexagonal close packing of 200 balls in rows of
   10 and 9, and the kinetic energy over the last second against the drop energy.
 
-    .venv/bin/python benchmarks/ccd_settling.py settle [seconds]
-    .venv/bin/python benchmarks/ccd_settling.py pile [seconds]
+    .venv/bin/python benchmarks/ccd_settling.py settle [seconds] [rest_speed]
+    .venv/bin/python benchmarks/ccd_settling.py pile [seconds] [rest_speed]
+
+rest_speed: ccd's Scene.rest_speed (engine/ccd/sleep.py); left out, the Scene's default.
 """
 import resource
 import sys
@@ -34,9 +36,10 @@ def peak_mb():
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 
 
-def settle(seconds=60.0):
+def settle(seconds=60.0, rest_speed=None):
     scene = collisim.load_scene("particles_250")
-    scene = scene.replace(world=scene.world.copy(gravity=(0.0, -G), restitution=0.8), seconds=seconds)
+    scene = scene.replace(world=scene.world.copy(gravity=(0.0, -G), restitution=0.8), seconds=seconds,
+                          rest_speed=rest_speed)
     costs = {}
     for method in ("discrete", "ccd"):
         run = scene.replace(method=method, substeps=1)
@@ -83,10 +86,10 @@ def close_packing_height(n=200, radius=0.5, columns=10):
     return radius + (rows - 1) * np.sqrt(3) * radius + radius
 
 
-def pile(seconds=20.0):
+def pile(seconds=20.0, rest_speed=None):
     for e in (0.0, 0.5, 0.9):
         world = pile_world(e)
-        scene = collisim.Scene(world=world, fps=60, seconds=seconds, method="ccd")
+        scene = collisim.Scene(world=world, fps=60, seconds=seconds, method="ccd", rest_speed=rest_speed)
         start = time.perf_counter()
         traj = collisim.simulate(scene)
         elapsed = time.perf_counter() - start

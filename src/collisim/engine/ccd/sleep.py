@@ -8,8 +8,9 @@ event-driven granular codes do, a body that is held still is frozen ("asleep"):
 * A body *falls asleep* when it moves slower than the rest speed (Environment.rest_speed,
   settable; by default the speed of a bounce SLEEP_HEIGHT × its radius high) while it is
   *cradled*: gravity is balanced by non-negative pushes from what it touches — the walls and
-  segments it rests on (bodies.py) and the bodies already asleep within SLEEP_GAP × its
-  radius. For frictionless
+  segments it rests on (bodies.py) or touches, and the bodies already asleep, all within
+  SLEEP_GAP × its radius (a ball pressed into a side wall by the ball under it is held). For
+  frictionless
   disks that means -g lies in the cone of those contact normals: one support straight under
   it, or two on either side of the vertical. This is tested right after each collision of a
   slow body and, for every body, at each frame time; a pile thus falls asleep from the
@@ -25,13 +26,11 @@ event-driven granular codes do, a body that is held still is frozen ("asleep"):
 Falling asleep removes at most ½ m v_rest² of kinetic energy per body: with the suggested
 rest speed, a bounce of a thousandth of a radius.
 
-Status: OFF BY DEFAULT (rest_speed 0). With it on, a settling pile of 24 balls (e = 0.5)
-ends asleep and still, but from frame 70 two balls overlap by up to 8 % of a radius
-(tests/test_ccd_rest.py, xfail), and the settling particles_250 gas still has frames over
-the event budget; the cause is not found yet (suspects: a sleeper woken while another body
-is held against it at the same instant, and the budget's skip putting bodies to sleep). Also
-seen: a large group of simultaneous contacts against sleepers on which the solver did not
-converge (resolve.MAX_SWEEPS) gave its bodies energy (particles_250, g, e = 0.8, 16.4 s).
+Status: OFF BY DEFAULT (rest_speed 0). Two faults are fixed: a woken body resting on the
+one hit fell, at its wake, for all the time it had slept (it was given gravity before being
+brought to the present: 8 % of r overlaps in a 24-ball pile), and a body leaning on a side wall
+never counted the wall as a support (rows against a wall never slept). The 24-ball e = 0.5 pile
+now sleeps by 2 s with no overlap (tests/test_ccd_rest.py).
 """
 import math
 
@@ -87,17 +86,18 @@ def cradled(bodies, grid, env, i, t):
     x, y = position_at(bodies, i, t)
     r = bodies.radius[i]
     right, left = -10.0, 10.0   # no support on either side yet
-    for wall in range(N_WALLS):   # walls and segments carry it only where it rests on them (bodies.py)
-        if rests_on(bodies, i, wall):
-            axis, _, inward = wall_geometry(env.box, wall, r)
+    gap = SLEEP_GAP * r
+    for wall in range(N_WALLS):   # a wall it touches pushes it along the wall's normal
+        axis, bound, inward = wall_geometry(env.box, wall, r)
+        if rests_on(bodies, i, wall) or abs((x, y)[axis] - bound) <= gap:
             right, left = _widen(ux, uy, inward if axis == 0 else 0.0, inward if axis == 1 else 0.0, right, left)
     c = grid.cell[i]
     apart = is_apart(grid, i)
     first, last = (0, env.segments.shape[0]) if apart else (grid.segment_start[c], grid.segment_start[c + 1])
     for k in range(first, last):
         segment = k if apart else grid.segment_index[k]
-        if rests_on(bodies, i, N_WALLS + segment):
-            nx, ny = segment_contact(x, y, env.segments[segment])[:2]
+        nx, ny, distance = segment_contact(x, y, env.segments[segment])[:3]
+        if rests_on(bodies, i, N_WALLS + segment) or distance - r <= gap:
             right, left = _widen(ux, uy, nx, ny, right, left)
     cx_lo, cx_hi, cy_lo, cy_hi = reach_block(grid, c, grid.reach[i])
     for cy in range(cy_lo, cy_hi):
@@ -194,8 +194,8 @@ def _wake_if_on(bodies, env, below, j, t, ux, uy, involved, count, listed):
     gap = distance - bodies.radius[j] - bodies.radius[below]
     if gap > SLEEP_GAP * min(bodies.radius[j], bodies.radius[below]) or dx * ux + dy * uy <= 0.0:
         return count
-    wake(bodies, env, j)
+    advance(bodies, j, t)   # still frozen: only its reference time moves (woken first, it would fall
+    wake(bodies, env, j)    # for all the time it slept)
     listed[j] = True
-    advance(bodies, j, t)
     involved[count] = j
     return count + 1
