@@ -94,15 +94,18 @@ def pile(seconds=20.0, rest_speed=None):
         traj = collisim.simulate(scene)
         elapsed = time.perf_counter() - start
         m = world.masses
-        drop = float(np.sum(m * G * (world.positions[:, 1] - world.radii)) + 0.5 * np.sum(m * world.velocities ** 2))
+        drop = float(np.sum(m * G * (world.positions[:, 1] - world.radii)) + 0.5 * np.sum(m[:, None] * world.velocities ** 2))
         ke = 0.5 * np.sum(m[None] * np.sum(traj.velocities ** 2, axis=2), axis=1)
         worst = max(worst_overlap(p, traj.radii) for p in traj.positions[::6])
         top = float(np.max(traj.positions[-1, :, 1] + traj.radii))
         ref = close_packing_height()
+        discrete = collisim.simulate(scene.replace(method="discrete"))
+        discrete_top = float(np.max(discrete.positions[-1, :, 1] + discrete.radii))
         last = traj.times >= traj.times[-1] - 1.0
         print(f"e = {e}: {elapsed:.1f} s for {seconds:g} s, largest overlap {worst:.2e} r, height {top:.3f} vs "
               f"close packing {ref:.3f} ({(top / ref - 1) * 100:+.2f} %), kinetic energy over the last second "
-              f"<= {ke[last].max() / drop:.1e} of the drop energy, frames over budget {int(traj.approximate.sum())}")
+              f"<= {ke[last].max() / drop:.1e} of the drop energy, frames over budget {int(traj.approximate.sum())}; "
+              f"the discrete pile's height {discrete_top:.3f} ({(top / discrete_top - 1) * 100:+.2f} %)", flush=True)
 
 
 if __name__ == "__main__":

@@ -14,7 +14,10 @@ event-driven granular codes do, a body that is held still is frozen ("asleep"):
   disks that means -g lies in the cone of those contact normals: one support straight under
   it, or two on either side of the vertical. This is tested right after each collision of a
   slow body and, for every body, at each frame time; a pile thus falls asleep from the
-  floor up. A cradled body hit twice at the same instant is jammed (wedged into a narrow
+  floor up. Bodies that lean on each other (an arch, a row pressed together) would wait for
+  one another's sleep for ever, so at frame times a body that touches another one and has
+  been slow at every frame time for SLOW_SPEEDS × rest speed / |g| falls asleep too:
+  unsupported, gravity would have changed its speed by more than that meanwhile. A cradled body hit twice at the same instant is jammed (wedged into a narrow
   cradle it cannot get out of) and falls asleep whatever its speed. Only when e < 1: an
   elastic system has no rest to come to.
 * A sleeping body has no velocity, no acceleration and no events of its own; another body
@@ -46,6 +49,9 @@ from .bodies import advance, fall_asleep, position_at, rests_on, velocity_at, wa
 SLEEP_GAP = 1e-3
 # The default rest speed: that of a bounce this fraction of the radius high.
 SLEEP_HEIGHT = 1e-3
+# A body slow at every frame time for as long as gravity takes to change a speed by this many
+# rest speeds is carried by what it touches, whether or not those sleep yet.
+SLOW_SPEEDS = 4.0
 # One support carries a body alone only if it is this close (radians) to straight under it.
 UPRIGHT = 1e-9
 
@@ -145,17 +151,51 @@ def doze(bodies, grid, env, particles, count, t):
 
 @njit(cache=True, error_model="numpy")
 def doze_all(bodies, grid, env, t, fell):
-    """At a frame time: put every slow cradled body to sleep (brought to time t). Fills fell
-    with them and returns their number."""
+    """At a frame time: put to sleep every slow body that is cradled, or that touches another
+    body and has been slow at every frame time for SLOW_SPEEDS rest speeds' worth of gravity
+    (module docstring). Bodies are brought to time t. Fills fell with them and returns their
+    number."""
     count = 0
+    gravity = math.hypot(env.gravity[0], env.gravity[1])
     for i in range(bodies.radius.shape[0]):
-        if not bodies.asleep[i] and env.rest_speed[i] > 0.0 and slow(bodies, env, i, t) \
-                and cradled(bodies, grid, env, i, t):
+        if bodies.asleep[i] or env.rest_speed[i] == 0.0:
+            continue
+        if not slow(bodies, env, i, t):
+            bodies.slow_since[i] = math.inf
+            continue
+        bodies.slow_since[i] = min(bodies.slow_since[i], t)
+        carried = gravity > 0.0 and t - bodies.slow_since[i] >= SLOW_SPEEDS * env.rest_speed[i] / gravity
+        if (carried and touches_a_body(bodies, grid, i, t)) or cradled(bodies, grid, env, i, t):
             advance(bodies, i, t)
             fall_asleep(bodies, i)
             fell[count] = i
             count += 1
     return count
+
+
+@njit(cache=True, error_model="numpy")
+def touches_a_body(bodies, grid, i, t):
+    """Does particle i at time t touch another body (asleep or not, within SLEEP_GAP)?"""
+    x, y = position_at(bodies, i, t)
+    cx_lo, cx_hi, cy_lo, cy_hi = reach_block(grid, grid.cell[i], grid.reach[i])
+    for cy in range(cy_lo, cy_hi):
+        for cx in range(cx_lo, cx_hi):
+            j = grid.head[cy * grid.nx + cx]
+            while j >= 0:
+                if j != i and _touching(bodies, i, j, x, y, t):
+                    return True
+                j = grid.next[j]
+    for k in range(grid.apart.shape[0]):
+        if grid.apart[k] != i and _touching(bodies, i, grid.apart[k], x, y, t):
+            return True
+    return False
+
+
+@njit(cache=True, error_model="numpy")
+def _touching(bodies, i, j, x, y, t):
+    xj, yj = position_at(bodies, j, t)
+    gap = math.hypot(x - xj, y - yj) - bodies.radius[i] - bodies.radius[j]
+    return gap <= SLEEP_GAP * min(bodies.radius[i], bodies.radius[j])
 
 
 @njit(cache=True, error_model="numpy")
