@@ -161,3 +161,20 @@ def test_a_small_inelastic_pile_falls_asleep_without_overlap():
     assert np.all(traj.positions[120:] == traj.positions[-1])
     assert len(traj.events) == 0 or traj.events.time[traj.events.kind != SUPPORT].max() < 2.0
     assert largest_overlap(traj) < 1e-9
+
+
+def test_an_inelastic_pile_of_sixty_leaning_on_each_other_falls_asleep():
+    """60 balls, e = 0, dropped in rows into a box 6 diameters wide: balls that lean on each other
+    (arches, rows pressed together) cannot wait for one another to sleep first; by 2.5 s the pile is
+    still, exactly, and no two balls ever overlap."""
+    rng = np.random.default_rng(1)
+    n, r, columns = 60, 0.5, 6
+    pitch = 2 * r * columns / (columns - 1)
+    x = (np.arange(n) % (columns - 1) + 0.5) * pitch + rng.uniform(-0.1, 0.1, n) * r
+    y = 3 * r + (np.arange(n) // (columns - 1)) * 2.5 * r
+    world = collisim.World(np.column_stack([x, y]), rng.normal(0, 0.5, (n, 2)), r, box=(0, 0, 6, y.max() + 2 * r),
+                           gravity=(0, -G), restitution=0.0)
+    traj = collisim.simulate(collisim.Scene(world=world, fps=60, seconds=3.0, method="ccd", rest_speed=0.099))
+    assert not traj.approximate.any()
+    assert np.all(traj.velocities[150:] == 0.0) and np.all(traj.positions[150:] == traj.positions[-1])
+    assert largest_overlap(traj) < 1e-9
