@@ -8,8 +8,10 @@
   largest overlap, the pile height against hexagonal close packing of 200 balls in rows of
   10 and 9, and the kinetic energy over the last second against the drop energy.
 
-    .venv/bin/python benchmarks/ccd_settling.py settle [seconds]
-    .venv/bin/python benchmarks/ccd_settling.py pile [seconds]
+    .venv/bin/python benchmarks/ccd_settling.py settle [seconds] [rest_speed]
+    .venv/bin/python benchmarks/ccd_settling.py pile [seconds] [rest_speed]
+
+rest_speed: ccd's Scene.rest_speed (engine/ccd/sleep.py); left out, the Scene's default.
 """
 import resource
 import sys
@@ -34,9 +36,10 @@ def peak_mb():
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 
 
-def settle(seconds=60.0):
+def settle(seconds=60.0, rest_speed=None):
     scene = collisim.load_scene("particles_250")
-    scene = scene.replace(world=scene.world.copy(gravity=(0.0, -G), restitution=0.8), seconds=seconds)
+    scene = scene.replace(world=scene.world.copy(gravity=(0.0, -G), restitution=0.8), seconds=seconds,
+                          rest_speed=rest_speed)
     costs = {}
     for method in ("discrete", "ccd"):
         run = scene.replace(method=method, substeps=1)
@@ -83,23 +86,26 @@ def close_packing_height(n=200, radius=0.5, columns=10):
     return radius + (rows - 1) * np.sqrt(3) * radius + radius
 
 
-def pile(seconds=20.0):
+def pile(seconds=20.0, rest_speed=None):
     for e in (0.0, 0.5, 0.9):
         world = pile_world(e)
-        scene = collisim.Scene(world=world, fps=60, seconds=seconds, method="ccd")
+        scene = collisim.Scene(world=world, fps=60, seconds=seconds, method="ccd", rest_speed=rest_speed)
         start = time.perf_counter()
         traj = collisim.simulate(scene)
         elapsed = time.perf_counter() - start
         m = world.masses
-        drop = float(np.sum(m * G * (world.positions[:, 1] - world.radii)) + 0.5 * np.sum(m * world.velocities ** 2))
+        drop = float(np.sum(m * G * (world.positions[:, 1] - world.radii)) + 0.5 * np.sum(m[:, None] * world.velocities ** 2))
         ke = 0.5 * np.sum(m[None] * np.sum(traj.velocities ** 2, axis=2), axis=1)
         worst = max(worst_overlap(p, traj.radii) for p in traj.positions[::6])
         top = float(np.max(traj.positions[-1, :, 1] + traj.radii))
         ref = close_packing_height()
+        discrete = collisim.simulate(scene.replace(method="discrete"))
+        discrete_top = float(np.max(discrete.positions[-1, :, 1] + discrete.radii))
         last = traj.times >= traj.times[-1] - 1.0
         print(f"e = {e}: {elapsed:.1f} s for {seconds:g} s, largest overlap {worst:.2e} r, height {top:.3f} vs "
               f"close packing {ref:.3f} ({(top / ref - 1) * 100:+.2f} %), kinetic energy over the last second "
-              f"<= {ke[last].max() / drop:.1e} of the drop energy, frames over budget {int(traj.approximate.sum())}")
+              f"<= {ke[last].max() / drop:.1e} of the drop energy, frames over budget {int(traj.approximate.sum())}; "
+              f"the discrete pile's height {discrete_top:.3f} ({(top / discrete_top - 1) * 100:+.2f} %)", flush=True)
 
 
 if __name__ == "__main__":

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..model.kinds import PAIR, WALL
+from ..model.kinds import N_WALLS, PAIR, SUPPORT, WALL
 
 # An event at time t belongs to the interval (t_{f-1}, t_f]. Discrete steps stamp events with
 # step_count·dt, which can differ from f/fps in the last bit: this slack (in frames) absorbs it.
@@ -217,12 +217,15 @@ def _cross(u, v):
 
 def wall_pressure(traj, world=None) -> float:
     """Mean pressure on the box of `world` (default: the trajectory's): total wall impulse /
-    (duration × perimeter), in mass/time² (force per unit length of wall, the 2D pressure)."""
+    (duration × perimeter), in mass/time² (force per unit length of wall, the 2D pressure).
+    The walls' impulse is that of the collisions with them and of their support of the bodies
+    resting on them (kinds.SUPPORT), so a box holding a body at rest feels its weight."""
     xmin, ymin, xmax, ymax = (world or traj.world).box
     duration = float(traj.times[-1] - traj.times[0])
     if duration <= 0:
         return 0.0
-    on_walls = traj.events.kind == WALL
+    kind, j = traj.events.kind, traj.events.j
+    on_walls = (kind == WALL) | ((kind == SUPPORT) & (j < N_WALLS))
     return float(traj.events.impulse[on_walls].sum() / (duration * 2 * ((xmax - xmin) + (ymax - ymin))))
 
 

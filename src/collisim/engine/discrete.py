@@ -32,7 +32,7 @@ from numba import njit
 from ..broadphase.step import AUTO, candidate_pairs, choose, step_state
 from ..geometry.box import centre_range
 from ..geometry.polygon import place_polygons
-from ..model.kinds import CIRCLE, MAP, N_WALLS, PAIR, SEGMENT, WALL
+from ..model.kinds import CIRCLE, MAP, N_WALLS, PAIR, SEGMENT, SUPPORT, WALL
 from ..narrowphase.hierarchy import NOT_COUNTED, record_levels
 from ..narrowphase.statics import segment_contacts
 from ..response.map import bounce_off_map, push_out
@@ -133,23 +133,24 @@ def _contact_phases(bodies, statics, broad, dt, margin, lo, hi, vertices, moved,
 
 @njit(cache=True)
 def _log_contacts(rows, count, log, now, frame_collisions):
-    """Impacts between bodies, and every press of a wall (impacts and resting support, so a
-    wall's pressure includes the weight it holds), into the log; impacts counted."""
+    """Impacts into the log, counted: between bodies (PAIR), of a body on a wall (WALL, j its
+    side) or of a polygon on a segment (SEGMENT, j the segment); and, not counted, the support
+    of a wall or segment holding a body without an impact (SUPPORT, j the wall's side or
+    N_WALLS + the segment), so a wall's pressure includes the weight it holds."""
     log = with_room(log, count)
     for r in range(count):
         impulse = rows.hit[r] + rows.impulse[r]
-        if rows.j[r] >= 0 and rows.hit[r] > 0.0:
-            append(log, now, PAIR, rows.i[r], rows.j[r], impulse, rows.point[r, 0], rows.point[r, 1])
-            frame_collisions[PAIR] += 1
-        elif rows.j[r] < 0 and rows.wall[r] >= N_WALLS:   # a polygon's impact on a segment
+        if rows.j[r] >= 0:
             if rows.hit[r] > 0.0:
-                append(log, now, SEGMENT, rows.i[r], rows.wall[r] - N_WALLS, impulse, rows.point[r, 0],
-                       rows.point[r, 1])
-                frame_collisions[SEGMENT] += 1
-        elif rows.j[r] < 0 and impulse > 0.0:
-            append(log, now, WALL, rows.i[r], rows.wall[r], impulse, rows.point[r, 0], rows.point[r, 1])
-            if rows.hit[r] > 0.0:
-                frame_collisions[WALL] += 1
+                append(log, now, PAIR, rows.i[r], rows.j[r], impulse, rows.point[r, 0], rows.point[r, 1])
+                frame_collisions[PAIR] += 1
+        elif rows.hit[r] > 0.0:
+            segment = rows.wall[r] >= N_WALLS
+            kind, other = (SEGMENT, rows.wall[r] - N_WALLS) if segment else (WALL, rows.wall[r])
+            append(log, now, kind, rows.i[r], other, impulse, rows.point[r, 0], rows.point[r, 1])
+            frame_collisions[kind] += 1
+        elif impulse > 0.0:
+            append(log, now, SUPPORT, rows.i[r], rows.wall[r], impulse, rows.point[r, 0], rows.point[r, 1])
     return log
 
 

@@ -1,8 +1,9 @@
 """The words every path shares, each defined once: the kinds of shape and of collision event.
 
 Shape kinds index the narrow phase's table of contact functions (narrowphase/registry.py).
-Event kinds label every collision in a Trajectory, whichever method found it; the event-driven
-method numbers its bookkeeping events after them (engine/ccd/eventqueue.py).
+Event kinds label every collision (and every resting support, SUPPORT) in a Trajectory, whichever
+method found it; the event-driven method's queue numbers its bookkeeping events after the three
+kinds it predicts, WALL, PAIR and SEGMENT (engine/ccd/eventqueue.py).
 """
 CIRCLE, POLYGON = 0, 1
 
@@ -12,6 +13,12 @@ WALL, PAIR, SEGMENT = 0, 1, 2
 # method, which samples the map's distance field. The per-frame counts add these to the
 # segment collisions: both are level geometry.
 MAP = 3
+# Not a collision: the push of a wall or segment that carries a body at rest (its weight), so
+# that a wall's pressure includes what it holds (analysis/metrics.py: wall_pressure). Logged at
+# least once a frame while the body rests; never counted with the collisions, never flashed.
+# Its `j` is the support: a wall side (< N_WALLS), or N_WALLS + the segment (under ccd the
+# collision map's chains are numbered after the scene's segments).
+SUPPORT = 4
 
 # A wall event's `j`: which side of the box (2·axis + side), in this order.
 WALL_SIDES = ("left", "right", "bottom", "top")

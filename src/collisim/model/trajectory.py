@@ -31,9 +31,10 @@ class Events:
     """Collision events, one row each, sorted by (time, kind, i, j).
 
     time: (k,)      when the impact happened (the discrete method: the end of the step that found it)
-    kind: (k,) int8 kinds.WALL, PAIR or SEGMENT
+    kind: (k,) int8 kinds.WALL, PAIR, SEGMENT, MAP, or SUPPORT (a resting body's support, not a collision)
     i: (k,)         the body
-    j: (k,)         the other body (PAIR, i < j), the wall (WALL: kinds.WALL_SIDES) or the segment
+    j: (k,)         the other body (PAIR, i < j), the wall (WALL: kinds.WALL_SIDES), the segment, or the
+                    support (SUPPORT: a wall side, or kinds.N_WALLS + the segment)
     impulse: (k,)   magnitude of the impulse on body i along the contact normal
     point: (k, 2)   contact point
     """

@@ -15,7 +15,7 @@ from typing import Callable, Iterator
 import numpy as np
 
 from .. import palette
-from ..model.kinds import CIRCLE
+from ..model.kinds import CIRCLE, SUPPORT
 from ..model.scene import RenderSettings
 from ..model.trajectory import Events, approximate_summary
 from . import explain, raster
@@ -197,7 +197,8 @@ class PanelPlayer:
         pixels (box_region): a wall's contact point is on the wall, and half a ring outside
         would cover the frame."""
         for events in self._recent:
-            fresh = (events.time <= now + 1e-12) & (events.time > now - FLASH_SECONDS)
+            # a support carrying a body at rest is no impact: it does not flash
+            fresh = (events.time <= now + 1e-12) & (events.time > now - FLASH_SECONDS) & (events.kind != SUPPORT)
             if not fresh.any():
                 continue
             age = (now - events.time[fresh]) / FLASH_SECONDS

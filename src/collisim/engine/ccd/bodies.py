@@ -20,12 +20,13 @@ releases it (then gravity acts again in full, and if it is still pressed into
 the support that contact is found at once); so does a collision with an
 obstacle that gives it a velocity across its support.
 """
+import math
 from collections import namedtuple
 
 from numba import njit
 
 Bodies = namedtuple("Bodies", ["pos", "vel", "acc", "t_ref", "radius", "mass", "support", "wedge",
-                               "support_normal", "counter", "horizon", "asleep", "last_hit"])
+                               "support_normal", "counter", "horizon", "asleep", "last_hit", "slow_since"])
 Bodies.__doc__ = """pos, vel, acc (n, 2): state at t_ref (n,); radius, mass (n,).
 support (n,) int64: FREE, a wall index, or N_WALLS + segment index for a resting particle;
 wedge (n,) int64: its second support when wedged, else FREE; support_normal (n, 2): the
@@ -34,7 +35,8 @@ counter (n,) int64: events so far, to invalidate older predictions.
 horizon (n,) float64: time of the particle's next predicted one-particle event (wall, segment,
 cell crossing), after which all its predictions are redone anyway.
 asleep (n,) bool: frozen at rest (sleep.py); last_hit (n,): the time of its last collision
-(for the TC model, resolve.py)."""
+(for the TC model, resolve.py); slow_since (n,): the first of the frame times since which it
+has been found slow at every frame time (inf: not slow at the last one; sleep.py)."""
 
 Environment = namedtuple("Environment", ["box", "segments", "gravity", "restitution", "rest_speed", "tc"])
 Environment.__doc__ = """box (4,): xmin, ymin, xmax, ymax; segments (m, 4): x0, y0, x1, y1;
@@ -134,6 +136,7 @@ def fall_asleep(bodies, i):
 def wake(bodies, env, i):
     """Particle i (current, asleep) moves again: the acceleration of its resting state."""
     bodies.asleep[i] = False
+    bodies.slow_since[i] = math.inf
     bodies.acc[i, 0], bodies.acc[i, 1] = env.gravity[0], env.gravity[1]
     if bodies.wedge[i] != FREE:
         bodies.acc[i, 0] = bodies.acc[i, 1] = 0.0

@@ -8,10 +8,10 @@ would miss the weight of everything at rest.
 
 What the supports of each body push with is recorded whenever its resting changes (after
 each event it took part in): its supports and their forces, and since when. The impulse
-N · (t - since) of each support is logged as a collision event of that wall or segment at
+N · (t - since) of each support is logged as a kinds.SUPPORT event of that wall or segment at
 the moment the resting changes, and at every frame time for the bodies still resting, so a
 body at rest on the floor gives the floor m·g·dt per frame. These events are not impacts:
-they are not counted in the per-frame collision counts.
+they are not counted in the per-frame collision counts, and the player does not flash them.
 """
 from collections import namedtuple
 
@@ -20,7 +20,7 @@ from numba import njit
 
 from ...geometry.box import wall_geometry
 from ...geometry.segment import segment_contact
-from ...model.kinds import N_WALLS, SEGMENT, WALL
+from ...model.kinds import N_WALLS, SUPPORT
 from ..eventlog import append, with_room
 from .bodies import FREE, position_at
 
@@ -75,8 +75,7 @@ def _log_impulses(log, bodies, env, supports, i, t):
         x, y = position_at(bodies, i, t)
         nx, ny = support_normal(bodies, env, i, s)
         r = bodies.radius[i]
-        append(log, t, WALL if s < N_WALLS else SEGMENT, i, s if s < N_WALLS else s - N_WALLS,
-               supports.force[i, k] * duration, x - r * nx, y - r * ny)
+        append(log, t, SUPPORT, i, s, supports.force[i, k] * duration, x - r * nx, y - r * ny)
     supports.since[i] = t
 
 
