@@ -51,3 +51,22 @@ def test_other_code_keeps_numbas_policy():
     probe = compiled("elsewhere")
     probe["caller"](np.zeros(2))
     assert len(probe["callee"].signatures) == 2   # Literal[int](1) (PAIR and 1) and Literal[int](0)
+
+
+def test_first_run_counts_compiles_per_function():
+    """The first-run benchmark's recorder: one count per signature compiled, a callee's time
+    its own (not also its caller's)."""
+    from numba.core import event
+    from collisim.analysis.bench.first_run import CompileRecorder
+    probe = compiled("collisim._probe")
+    recorder = CompileRecorder()
+    event.register("numba:compile", recorder)
+    try:
+        probe["caller"](np.zeros(2))
+        probe["callee"](np.zeros(2, np.int64), 0, 1)   # a second signature, from Python
+    finally:
+        event.unregister("numba:compile", recorder)
+    callee, caller = recorder.functions["collisim._probe.callee"], recorder.functions["collisim._probe.caller"]
+    assert (callee["compiles"], caller["compiles"]) == (2, 1)
+    assert callee["seconds"] > 0 and caller["seconds"] > 0
+    assert callee["signatures"][1] == "array(int64, 1d, C), int64, int64"

@@ -6,7 +6,9 @@ new temporary folder, so the repository's own caches (the __pycache__ beside the
 never read nor deleted. The cold process listens to numba's "numba:compile" events (fired only
 when a kernel is compiled, never when one is loaded from the cache) and reports, per function,
 how many times it compiled and the seconds it spent compiling itself (a compile's own time:
-less the kernels it compiled on the way, which are timed as theirs).
+less the kernels it compiled on the way, which are timed as theirs), and both runs time
+numba's cache (entries loaded, seconds loading and saving). Wall seconds are the process's as
+the parent sees it; on a shared machine its CPU seconds are the steadier figure.
 
     python -m collisim.analysis.bench.first_run particles_250 --method discrete ccd --top 15
 """
@@ -46,10 +48,34 @@ class CompileRecorder(numba_event.Listener):
         entry["signatures"].append(", ".join(str(a) for a in data["args"]))
 
 
+class CacheTimer:
+    """Time spent in numba's cache: loading entries (the warm run's cost besides importing and
+    running) and saving them (part of the cold run's compiling)."""
+
+    def __init__(self):
+        from numba.core import caching
+        self.loaded = self.load_seconds = self.save_seconds = 0
+        load, save = caching.Cache.load_overload, caching.Cache.save_overload
+
+        def timed_load(cache, *args):
+            start = time.perf_counter()
+            data = load(cache, *args)
+            self.load_seconds += time.perf_counter() - start
+            self.loaded += data is not None
+            return data
+
+        def timed_save(cache, *args):
+            start = time.perf_counter()
+            save(cache, *args)
+            self.save_seconds += time.perf_counter() - start
+
+        caching.Cache.load_overload, caching.Cache.save_overload = timed_load, timed_save
+
+
 def _child(scene: str, method: str | None) -> dict:
     """Render frame 1 of scene in this process; what it took and what compiled (run in a fresh process)."""
     start = time.perf_counter()
-    recorder = CompileRecorder()
+    recorder, cache = CompileRecorder(), CacheTimer()
     numba_event.register("numba:compile", recorder)
     from collisim.cli import main
     imported = time.perf_counter()
@@ -58,6 +84,8 @@ def _child(scene: str, method: str | None) -> dict:
         status = main(args + (["--method", method] if method else []))
     done = time.perf_counter()
     return {"status": status, "import_seconds": imported - start, "seconds": done - start,
+            "cpu_seconds": time.process_time(),   # the whole process's, interpreter start included "cache_loads": cache.loaded,
+            "cache_load_seconds": cache.load_seconds, "cache_save_seconds": cache.save_seconds,
             "compile_seconds": sum(f["seconds"] for f in recorder.functions.values()),
             "compiles": sum(f["compiles"] for f in recorder.functions.values()), "functions": recorder.functions}
 
@@ -100,10 +128,12 @@ def format_row(report: dict) -> str:
     cold, warm = report["cold"], report["warm"]
     warm_walls = report["wall"]["warm"]
     warm_text = ", ".join(f"{w:.2f}" for w in warm_walls)
+    warm_cpu = ", ".join(f"{w['cpu_seconds']:.2f}" for w in warm)
     return (f"{report['scene']:<15} {report['method'] or '(own)':<9} cold {report['wall']['cold']:6.1f} s "
-            f"({cold['compiles']} compiles, {cold['compile_seconds']:.1f} s compiling, import "
-            f"{cold['import_seconds']:.1f} s)  warm {warm_text} s (import "
-            f"{min(w['import_seconds'] for w in warm):.2f} s, {max(w['compiles'] for w in warm)} compiles)")
+            f"(cpu {cold['cpu_seconds']:.1f} s; {cold['compiles']} compiles, {cold['compile_seconds']:.1f} s "
+            f"compiling, {cold['cache_save_seconds']:.1f} s of it saving)  warm {warm_text} s (cpu {warm_cpu} s; "
+            f"{max(w['compiles'] for w in warm)} compiles, {warm[0]['cache_loads']} cache loads "
+            f"{warm[0]['cache_load_seconds']:.2f} s, import {min(w['import_seconds'] for w in warm):.2f} s)")
 
 
 def main(argv=None) -> int:
