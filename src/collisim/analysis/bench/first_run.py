@@ -151,7 +151,11 @@ def main(argv=None) -> int:
     reports = []
     for scene in args.scenes:
         for method in args.method or [None]:
-            report = measure(scene, method, args.warm)
+            try:
+                report = measure(scene, method, args.warm)
+            except RuntimeError as error:   # e.g. ccd refuses a scene of polygons: the others still run
+                print(f"{scene:<15} {method or '(own)':<9} could not run: {error}", flush=True)
+                continue
             reports.append(report)
             print(format_row(report), flush=True)
             if args.top:
