@@ -84,7 +84,8 @@ def _child(scene: str, method: str | None) -> dict:
         status = main(args + (["--method", method] if method else []))
     done = time.perf_counter()
     return {"status": status, "import_seconds": imported - start, "seconds": done - start,
-            "cpu_seconds": time.process_time(),   # the whole process's, interpreter start included "cache_loads": cache.loaded,
+            "cpu_seconds": time.process_time(),   # the whole process's, interpreter start included
+            "cache_loads": cache.loaded,
             "cache_load_seconds": cache.load_seconds, "cache_save_seconds": cache.save_seconds,
             "compile_seconds": sum(f["seconds"] for f in recorder.functions.values()),
             "compiles": sum(f["compiles"] for f in recorder.functions.values()), "functions": recorder.functions}
@@ -160,9 +161,9 @@ def main(argv=None) -> int:
             print(format_row(report), flush=True)
             if args.top:
                 print(format_functions(report, args.top), flush=True)
-    if args.json:
-        with open(args.json, "w") as f:
-            json.dump(reports, f, indent=1)
+            if args.json:   # after every run: a long series keeps what it measured
+                with open(args.json, "w") as f:
+                    json.dump(reports, f, indent=1)
     return 0
 
 
