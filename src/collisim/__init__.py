@@ -3,7 +3,11 @@
     scene file -> Scene -> World (bodies, statics) -> engine (discrete or ccd) -> Trajectory
                -> player (raster, overlays) -> writer (PyAV) -> renders/<scene>.mp4
 """
-from .engine import simulate, stream
+from .compiling import plain_constants
+
+plain_constants()   # before any kernel is typed: one compile per argument types (compiling.py)
+
+from .engine import simulate, stream  # noqa: E402
 from .model import Events, Panel, RenderSettings, Scene, Trajectory, World, load_trajectory
 from .model.scenefile import load_scene
 from .narrowphase import contacts

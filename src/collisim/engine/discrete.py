@@ -32,19 +32,17 @@ from numba import njit
 from ..broadphase.step import AUTO, candidate_pairs, choose, step_state
 from ..geometry.box import centre_range
 from ..geometry.polygon import place_polygons
-from ..model.kinds import CIRCLE, MAP, N_WALLS, PAIR, SEGMENT, SUPPORT, WALL
+from ..model.kinds import CIRCLE, N_WALLS, PAIR, SEGMENT, SUPPORT, WALL
 from ..narrowphase.hierarchy import NOT_COUNTED, record_levels
-from ..narrowphase.statics import segment_contacts
-from ..response.map import bounce_off_map, push_out
 from ..response.rows import margins, near_segments, new_rows, pair_rows, segment_rows, wall_rows
 from ..response.solver import collide, come_to_rest, solve_positions, solve_velocities
 from ..response.warmstart import no_memory, recall, remember
-from ..response.statics import bounce_between_walls, bounce_off_segment
-from ..statics.map_field import has_map, no_map_field
+from ..response.statics import bounce_between_walls
 from ..statics.segment_index import build_segment_index
 from .eventlog import append, log_events, new_log, with_room
 from .integrate import integrate
 from .profile import Profile, cycles
+from .statics_paths import keep_start, map_phase, segment_phase, settle_in_map
 
 INTEGRATE, BROAD, NARROW, RESPONSE, STATICS, SETTLE, RECORD, TOTAL = range(8)
 ITERATIONS = 20   # sweeps of the contact solver per step (response/solver.py)
@@ -54,7 +52,7 @@ Bodies = namedtuple("Bodies", ["shapes", "positions", "velocities", "angles", "a
 Statics = namedtuple("Statics", ["box", "segments", "index", "map", "restitution", "rest_speed", "iterations",
                                  "friction"], defaults=(0.0, ITERATIONS, 0.0))
 Statics.__doc__ = """What bodies meet besides each other: box (4,), segments (m, 4) and their index, the
-collision map's field; and how contacts respond: restitution e, the rest speed below which a
+collision map's field (index and map None when the world has none: see statics_paths.py); and how contacts respond: restitution e, the rest speed below which a
 contact rests instead of bouncing, the solver's sweeps per step, and the friction coefficient."""
 Frames = namedtuple("Frames", ["positions", "velocities", "angles", "angular_velocities", "collisions",
                                "candidates", "approximate", "hierarchy"])
@@ -169,20 +167,8 @@ def statics_phase(bodies, statics, scratch, dt, log, now, frame_collisions):
     """Segments, then walls, in place; collisions added to frame_collisions (3,: wall, pair,
     segment) and log. scratch from statics_scratch. Returns the log."""
     b, s = bodies, statics
-    if s.segments.shape[0] > 0:
-        found, count = segment_contacts(b.positions, b.radii, s.segments, s.index, scratch[0], scratch[1])
-        log = with_room(log, count)
-        for c in range(count):
-            i, k = found[c, 0], found[c, 1]
-            if b.shapes[i] != CIRCLE:
-                continue   # a polygon meets segments through the contact solver (segment_rows)
-            impulse, x, y = bounce_off_segment(b.positions, b.velocities, b.radii, b.masses, s.segments, i, k,
-                                               s.restitution)
-            if impulse > 0.0:
-                append(log, now, SEGMENT, i, k, impulse, x, y)
-                frame_collisions[SEGMENT] += 1
-    if has_map(s.map):
-        log = map_phase(b, s, scratch[2], dt, log, now, frame_collisions)
+    log = segment_phase(b, s, scratch, log, now, frame_collisions)
+    log = map_phase(b, s, scratch[2], dt, log, now, frame_collisions)
     log = with_room(log, 4 * b.positions.shape[0])  # at most one event per body and wall
     for i in range(b.positions.shape[0]):
         if b.shapes[i] != CIRCLE:
@@ -201,21 +187,6 @@ def statics_phase(bodies, statics, scratch, dt, log, now, frame_collisions):
             if high_bounces > 0:
                 _log_wall(log, now, b.positions, s.box, i, axis, 1, high_impulse)
             frame_collisions[WALL] += low_bounces + high_bounces
-    return log
-
-
-@njit(cache=True)
-def map_phase(bodies, statics, start, dt, log, now, frame_collisions):
-    """Every body's move this step of dt (from start (n, 2)) against the collision map; bounces are
-    counted with the segments' (frame_collisions[SEGMENT]) and logged as MAP events."""
-    b = bodies
-    log = with_room(log, b.positions.shape[0])
-    for i in range(b.positions.shape[0]):
-        impulse, x, y, bounces = bounce_off_map(statics.map, start, b.positions, b.velocities, b.accelerations,
-                                                b.radii, b.masses, statics.restitution, dt, i)
-        if bounces > 0:
-            append(log, now, MAP, i, -1, impulse, x, y)
-            frame_collisions[SEGMENT] += bounces
     return log
 
 
@@ -250,8 +221,7 @@ def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, memor
         for _ in range(substeps):
             step_count += 1
             now = step_count * dt
-            if has_map(s.map):
-                scratch[2][:] = b.positions
+            keep_start(s.map, scratch[2], b.positions)
             v, w, m, inertia = b.velocities, b.angular_velocities, b.masses, b.inertias
             collide(rows, count, v, w, b.accelerations, m, inertia, s.restitution, s.friction, s.rest_speed, dt,
                     s.iterations)
@@ -272,9 +242,7 @@ def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, memor
             t = _lap(phase_cycles, RESPONSE, t)
             log = statics_phase(b, s, scratch, dt, log, now, frame_collisions)
             t = _lap(phase_cycles, STATICS, t)
-            if count > 0 and has_map(s.map):
-                for i in range(n):
-                    push_out(s.map, b.positions, b.radii[i], i)
+            if count > 0 and settle_in_map(s.map, b.positions, b.radii):
                 t = _lap(phase_cycles, SETTLE, t)
             rows, count, candidates, t = _contact_phases(b, s, broad, dt, margin, lo, hi, vertices, moved, rows,
                                                          phase_cycles, t)
@@ -348,8 +316,9 @@ class DiscreteStepper:
         self.bodies = Bodies(w.shapes, w.positions.copy(), w.velocities.copy(), w.angles.copy(),
                              w.angular_velocities.copy(), w.accelerations, w.radii, w.masses, w.inertias,
                              w.vertex_start, w.body_vertices)
-        index = build_segment_index(w.segments, w.box)
-        field = no_map_field() if w.map is None else w.map.field
+        # None for what the world lacks: the step then compiles no path for it (statics_paths.py)
+        index = build_segment_index(w.segments, w.box) if len(w.segments) else None
+        field = None if w.map is None else w.map.field
         self.dt = 1.0 / fps / substeps
         # below this approach speed a contact rests instead of bouncing: twice what the
         # acceleration adds in a step (0 without one, so a gas bounces at every speed)

@@ -230,7 +230,15 @@ def _prepare(canvas, centres, radii, colors):
     colors = np.ascontiguousarray(np.broadcast_to(colors, (n, colors.shape[-1])))
     if colors.shape[1] > canvas.shape[2]:
         raise ValueError(f"{colors.shape[1]} colour channels for a canvas of {canvas.shape[2]}")
-    return centres, radii, colors
+    return _read_only(centres), _read_only(radii), _read_only(colors)
+
+
+def _read_only(array):
+    """A read-only view: numba types read-only and writable arrays apart, so inputs that are
+    sometimes one (a broadcast view) and sometimes the other (a copy) compiled each kernel twice."""
+    view = array.view()
+    view.flags.writeable = False
+    return view
 
 
 def draw_discs(canvas, centres_px, radii_px, colors) -> None:
@@ -247,7 +255,7 @@ def draw_annuli(canvas, centres_px, radii_px, thickness_px, colors) -> None:
     centred on radii_px, as cv2.circle draws outlines; a negative thickness fills the disc of
     radius radii_px (cv2's FILLED). Other arguments as for draw_discs."""
     centres, radii, colors = _prepare(canvas, centres_px, radii_px, colors)
-    thickness = np.ascontiguousarray(np.broadcast_to(np.asarray(thickness_px, np.float64), radii.shape))
+    thickness = _read_only(np.ascontiguousarray(np.broadcast_to(np.asarray(thickness_px, np.float64), radii.shape)))
     if len(centres):
         splat_rings(canvas, centres, radii, thickness, colors, _bias(canvas))
 

@@ -1,0 +1,118 @@
+"""The statics a world may lack — segments, a collision map — compiled only for worlds that have them.
+
+The discrete step's Statics holds None for what its world lacks: no segment index without
+segments, no field without a collision map. Each function below is one name whose
+implementation numba picks by the type of that field when the step compiles (as
+broadphase/step.py picks the broad phase): a no-op for None. So a world of bodies in a box
+never compiles the segment index, the segment contacts and bounces, nor the map's march,
+bounce and push-out — about forty compiles that a first run of particles_250 paid for paths it
+never takes. A world with segments or a map compiles its own step, cached on its own. A field
+given anyway (no_map_field(), an empty index) takes the full path with its run-time checks.
+"""
+from numba.core import types
+from numba.extending import overload
+
+from ..model.kinds import CIRCLE, MAP, SEGMENT
+from ..narrowphase.statics import segment_contacts
+from ..response.map import bounce_off_map, push_out
+from ..response.statics import bounce_off_segment
+from ..statics.map_field import has_map
+from .eventlog import append, with_room
+
+
+def _lacks(statics_type, field: str) -> bool:
+    """Whether field of a Statics namedtuple type is None (the world lacks it)."""
+    return isinstance(statics_type.types[statics_type.fields.index(field)], types.NoneType)
+
+
+def segment_phase(bodies, statics, scratch, log, now, frame_collisions):
+    """Bounce bodies off the segments they touch, in place (compiled code only): each bounce
+    counted in frame_collisions[SEGMENT] and logged. scratch from discrete.statics_scratch.
+    Returns the log."""
+    raise NotImplementedError("segment_phase is called from compiled code")
+
+
+def map_phase(bodies, statics, start, dt, log, now, frame_collisions):
+    """Every body's move this step of dt (from start (n, 2)) against the collision map (compiled
+    code only); bounces are counted with the segments' (frame_collisions[SEGMENT]) and logged as
+    MAP events. Returns the log."""
+    raise NotImplementedError("map_phase is called from compiled code")
+
+
+def keep_start(field, start, positions):
+    """With a map, copy positions into start (n, 2): the map marches each step's move from there."""
+    raise NotImplementedError("keep_start is called from compiled code")
+
+
+def settle_in_map(field, positions, radii):
+    """With a map, push every body out of it (positions only); returns whether there was one."""
+    raise NotImplementedError("settle_in_map is called from compiled code")
+
+
+@overload(segment_phase)
+def _segment_phase(bodies, statics, scratch, log, now, frame_collisions):
+    if _lacks(statics, "index"):
+        return lambda bodies, statics, scratch, log, now, frame_collisions: log
+
+    def bounce_off_segments(bodies, statics, scratch, log, now, frame_collisions):
+        b, s = bodies, statics
+        if s.segments.shape[0] == 0:
+            return log
+        found, count = segment_contacts(b.positions, b.radii, s.segments, s.index, scratch[0], scratch[1])
+        log = with_room(log, count)
+        for c in range(count):
+            i, k = found[c, 0], found[c, 1]
+            if b.shapes[i] != CIRCLE:
+                continue   # a polygon meets segments through the contact solver (response/rows.segment_rows)
+            impulse, x, y = bounce_off_segment(b.positions, b.velocities, b.radii, b.masses, s.segments, i, k,
+                                               s.restitution)
+            if impulse > 0.0:
+                append(log, now, SEGMENT, i, k, impulse, x, y)
+                frame_collisions[SEGMENT] += 1
+        return log
+    return bounce_off_segments
+
+
+@overload(map_phase)
+def _map_phase(bodies, statics, start, dt, log, now, frame_collisions):
+    if _lacks(statics, "map"):
+        return lambda bodies, statics, start, dt, log, now, frame_collisions: log
+
+    def bounce_off(bodies, statics, start, dt, log, now, frame_collisions):
+        b = bodies
+        if not has_map(statics.map):
+            return log
+        log = with_room(log, b.positions.shape[0])
+        for i in range(b.positions.shape[0]):
+            impulse, x, y, bounces = bounce_off_map(statics.map, start, b.positions, b.velocities, b.accelerations,
+                                                    b.radii, b.masses, statics.restitution, dt, i)
+            if bounces > 0:
+                append(log, now, MAP, i, -1, impulse, x, y)
+                frame_collisions[SEGMENT] += bounces
+        return log
+    return bounce_off
+
+
+@overload(keep_start)
+def _keep_start(field, start, positions):
+    if isinstance(field, types.NoneType):
+        return lambda field, start, positions: None
+
+    def copy(field, start, positions):
+        if has_map(field):
+            start[:] = positions
+    return copy
+
+
+@overload(settle_in_map)
+def _settle_in_map(field, positions, radii):
+    if isinstance(field, types.NoneType):
+        return lambda field, positions, radii: False
+
+    def push_all_out(field, positions, radii):
+        if not has_map(field):
+            return False
+        for i in range(positions.shape[0]):
+            push_out(field, positions, radii[i], i)
+        return True
+    return push_all_out
