@@ -1,4 +1,7 @@
-"""The slides' hierarchy of bounding volumes: boxes, triangles, a hexagon and two balls drifting and spinning (no gravity, e = 1, no friction), each drawn with its bounding circle, box and oriented box; pairs whose volumes overlap while their shapes do not are marked as false positives, and the funnel of counts per level (the engine's) stands beside."""
+"""The slides' hierarchy of bounding volumes: boxes, triangles, a hexagon and two balls drifting
+and spinning (no gravity, e = 1, no friction), each drawn with its bounding circle, box and
+oriented box; pairs whose volumes overlap while their shapes do not are marked as false
+positives, and the funnel of counts per level (the engine's) stands beside."""
 import numpy as np
 
 import collisim

@@ -52,8 +52,9 @@ Bodies = namedtuple("Bodies", ["shapes", "positions", "velocities", "angles", "a
 Statics = namedtuple("Statics", ["box", "segments", "index", "map", "restitution", "rest_speed", "iterations",
                                  "friction"], defaults=(0.0, ITERATIONS, 0.0))
 Statics.__doc__ = """What bodies meet besides each other: box (4,), segments (m, 4) and their index, the
-collision map's field (index and map None when the world has none: see statics_paths.py); and how contacts respond: restitution e, the rest speed below which a
-contact rests instead of bouncing, the solver's sweeps per step, and the friction coefficient."""
+collision map's field (index and map None when the world has none: see statics_paths.py); and
+how contacts respond: restitution e, the rest speed below which a contact rests instead of
+bouncing, the solver's sweeps per step, and the friction coefficient."""
 Frames = namedtuple("Frames", ["positions", "velocities", "angles", "angular_velocities", "collisions",
                                "candidates", "approximate", "hierarchy"])
 Frames.__doc__ = """A block of frames: positions, velocities (f, n, 2); angles, angular_velocities (f, n);

@@ -106,7 +106,8 @@ def run(seconds: float = 8.0, repeats: int = 3, world=None, fps=None, falling: b
                 inside = (starts >= first - 1e-9) & (starts < last - 1e-9)
                 per_step[engine].append(spent[inside].sum() / max(1, counts[inside].sum()))
         ratios = np.array(per_step["collisim"]) / np.array(per_step["pymunk"])
-        rows.append(dict(phase=f"{name} ({first:g}-{last:g} s)", collisim_ms=1e3 * float(np.median(per_step["collisim"])),
+        rows.append(dict(phase=f"{name} ({first:g}-{last:g} s)",
+                         collisim_ms=1e3 * float(np.median(per_step["collisim"])),
                          pymunk_ms=1e3 * float(np.median(per_step["pymunk"])), ratio_low=float(ratios.min()),
                          ratio_high=float(ratios.max()), ratios=ratios.tolist()))
     return rows, dict(profile.seconds)

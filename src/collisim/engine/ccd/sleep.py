@@ -17,9 +17,10 @@ event-driven granular codes do, a body that is held still is frozen ("asleep"):
   floor up. Bodies that lean on each other (an arch, a row pressed together) would wait for
   one another's sleep for ever, so at frame times a body that touches another one and has
   been slow at every frame time for SLOW_SPEEDS × rest speed / |g| falls asleep too:
-  unsupported, gravity would have changed its speed by more than that meanwhile. A cradled body hit twice at the same instant is jammed (wedged into a narrow
-  cradle it cannot get out of) and falls asleep whatever its speed. Only when e < 1: an
-  elastic system has no rest to come to.
+  unsupported, gravity would have changed its speed by more than that meanwhile. A cradled
+  body hit twice at the same instant is jammed (wedged into a narrow cradle it cannot get out
+  of) and falls asleep whatever its speed. Only when e < 1: an elastic system has no rest to
+  come to.
 * A sleeping body has no velocity, no acceleration and no events of its own; another body
   collides with it as with a fixed obstacle (resolve.py), so a settled pile costs nothing.
 * A body that hits a sleeping one faster than the sleeper's rest speed *wakes* it (the
