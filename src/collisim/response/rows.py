@@ -37,16 +37,16 @@ MARGIN = 0.01  # of the radius: every body's smallest speculative margin (a rest
 
 Rows = namedtuple("Rows", ["i", "j", "wall", "feature", "partner", "normal", "point", "lever", "gap",
                            "mass", "mass_t", "hit", "impulse", "friction", "pseudo", "slop"])
-Rows.__doc__ = """Contact rows, each (k,) or (k, 2): i, j the bodies (j = -1 for a row of a static: `wall`
-is the box wall's side, or N_WALLS + k for segment k; else -1); feature the point's number in
-its manifold (0 or 1); partner the row of the manifold's other point, or -1; normal unit, from
-i toward j (into the wall); point where they meet; lever (k, 4) the turning lever of the point
-about each centre, arm × n and arm × t for body i then body j (0 for a wall): a unit impulse along n turns body i by -lever[0]/I_i, and the point's
-velocity along n includes ω_i·lever[0]; gap along the normal at the start of the step
-(< 0: overlapping); mass, mass_t the effective masses along the normal and the tangent
-(-n_y, n_x); hit the impact impulse, impulse and friction the accumulated contact impulses along
-the normal and the tangent, pseudo the position impulse (set by the solver); slop the overlap
-the row tolerates."""
+Rows.__doc__ = """Contact rows, each (k,) or (k, 2): i, j the bodies (j = -1 for a row of a static: `wall` is the
+box wall's side, or N_WALLS + k for segment k; else -1); feature the point's number in its
+manifold (0 or 1); partner the row of the manifold's other point, or -1; normal unit, from i
+toward j (into the wall); point where they meet; lever (k, 4) the turning lever of the point
+about each centre, arm × n and arm × t for body i then body j (0 for a wall): a unit impulse
+along n turns body i by -lever[0]/I_i, and the point's velocity along n includes ω_i·lever[0];
+gap along the normal at the start of the step (< 0: overlapping); mass, mass_t the effective
+masses along the normal and the tangent (-n_y, n_x); hit the impact impulse, impulse and
+friction the accumulated contact impulses along the normal and the tangent, pseudo the position
+impulse (set by the solver); slop the overlap the row tolerates."""
 
 
 @njit(cache=True)
