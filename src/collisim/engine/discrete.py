@@ -50,11 +50,12 @@ ITERATIONS = 20   # sweeps of the contact solver per step (response/solver.py)
 Bodies = namedtuple("Bodies", ["shapes", "positions", "velocities", "angles", "angular_velocities",
                                "accelerations", "radii", "masses", "inertias", "vertex_start", "body_vertices"])
 Statics = namedtuple("Statics", ["box", "segments", "index", "map", "restitution", "rest_speed", "iterations",
-                                 "friction"], defaults=(0.0, ITERATIONS, 0.0))
+                                 "friction", "volumes"], defaults=(0.0, ITERATIONS, 0.0, None))
 Statics.__doc__ = """What bodies meet besides each other: box (4,), segments (m, 4) and their index, the
 collision map's field (index and map None when the world has none: see statics_paths.py); and
 how contacts respond: restitution e, the rest speed below which a contact rests instead of
-bouncing, the solver's sweeps per step, and the friction coefficient."""
+bouncing, the solver's sweeps per step, and the friction coefficient; volumes True for a world
+with polygons, whose frames count the bounding-volume funnel (narrowphase/hierarchy.py), else None."""
 Frames = namedtuple("Frames", ["positions", "velocities", "angles", "angular_velocities", "collisions",
                                "candidates", "approximate", "hierarchy"])
 Frames.__doc__ = """A block of frames: positions, velocities (f, n, 2); angles, angular_velocities (f, n);
@@ -248,7 +249,7 @@ def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, memor
             rows, count, candidates, t = _contact_phases(b, s, broad, dt, margin, lo, hi, vertices, moved, rows,
                                                          phase_cycles, t)
         out.candidates[frame] = candidates
-        record_levels(b, broad, vertices, out.hierarchy[frame])
+        record_levels(s.volumes, b, broad, vertices, out.hierarchy[frame])
         out.positions[frame] = b.positions
         out.velocities[frame] = b.velocities
         if out.angles.shape[1] == n:  # bodies that turn (see new_frames)
@@ -324,8 +325,9 @@ class DiscreteStepper:
         # below this approach speed a contact rests instead of bouncing: twice what the
         # acceleration adds in a step (0 without one, so a gas bounces at every speed)
         pull = float(np.max(np.hypot(w.accelerations[:, 0], w.accelerations[:, 1]))) if w.n else 0.0
+        volumes = True if np.any(w.shapes != CIRCLE) else None
         self.statics = Statics(w.box, w.segments, index, field, float(w.restitution), 2.0 * pull * self.dt,
-                               ITERATIONS, float(w.friction))
+                               ITERATIONS, float(w.friction), volumes)
         self.memory = no_memory()
         self.broad = step_state(broadphase, world)
         chosen = f"{choose(world)} (auto)" if broadphase == AUTO else broadphase

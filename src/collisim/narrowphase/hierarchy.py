@@ -28,6 +28,8 @@ import math
 
 import numpy as np
 from numba import njit
+from numba.core import types
+from numba.extending import overload
 
 from ..broadphase.step import candidate_pairs
 from ..geometry.polygon import oriented_box, place_polygons, polygon_bounds
@@ -152,16 +154,23 @@ def each_level(shapes, positions, radii, vertices, start, volumes, pairs, out):
     return out
 
 
-@njit(cache=True, error_model="numpy")
-def record_levels(bodies, broad, vertices, counts):
+def record_levels(volumes, bodies, broad, vertices, counts):
     """counts (4,) <- how many pairs of the bodies' state pass each level (count_levels), for
-    worlds with polygons. A world of circles is NOT_COUNTED: every level of a pair of circles
-    is its bounding circle's, so the funnel would only repeat the touching pairs, at the cost
-    of a broad-phase query a frame (benchmarks/hierarchy.py)."""
-    if bodies.vertex_start[bodies.positions.shape[0]] == 0:
-        counts[:] = NOT_COUNTED
-    else:
+    worlds with polygons (compiled code only). volumes is None for a world of circles, which is
+    not counted and does not compile the counting (counts stay NOT_COUNTED): every level of a
+    pair of circles is its bounding circle's, so the funnel would only repeat the touching
+    pairs, at the cost of a broad-phase query a frame (benchmarks/hierarchy.py)."""
+    raise NotImplementedError("record_levels is called from compiled code")
+
+
+@overload(record_levels)
+def _record_levels(volumes, bodies, broad, vertices, counts):
+    if isinstance(volumes, types.NoneType):
+        return lambda volumes, bodies, broad, vertices, counts: None
+
+    def record(volumes, bodies, broad, vertices, counts):
         count_levels(bodies, broad, vertices, counts)
+    return record
 
 
 @njit(cache=True, error_model="numpy")
