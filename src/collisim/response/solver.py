@@ -37,7 +37,6 @@ from numba import njit
 from .impulse import newton_impulse
 
 POSITION_RATE = 0.2   # the fraction of an overlap (beyond the slop) removed per step
-NORMAL, TANGENT = 0, 1
 
 # The loops below read each row's fields into plain numbers and hand only numbers and the
 # per-body arrays to the small functions they call. A call that is handed the Rows tuple itself
