@@ -38,51 +38,75 @@ from .impulse import newton_impulse
 
 POSITION_RATE = 0.2   # the fraction of an overlap (beyond the slop) removed per step
 
-# The loops below read each row's fields into plain numbers and hand only numbers and the
-# per-body arrays to the small functions they call. A call that is handed the Rows tuple itself
-# (16 arrays) costs about half a microsecond whatever it does: 20 to 80 times its arithmetic.
+# The loops below load a row's two bodies into plain numbers (_load), work on those, and store
+# them back once (_store). Read and written through the arrays at every step instead, each write
+# obliges the compiled code to read everything again (it cannot know that the arrays do not
+# overlap): twice the time. A call handed the Rows tuple itself (16 arrays) would cost about half
+# a microsecond whatever it does.
 
 
 @njit(cache=True, inline="always")
-def relative(lin, ang, i, j, dx, dy, lever_i, lever_j):
-    """(v_j - v_i) along (dx, dy) at a contact point of bodies i and j (j < 0: a wall, which does
-    not move), for per-body vectors. A point at arm a moves at v + ω × a, whose part along d is
-    v·d + ω·(a × d): the point's lever about each centre (lever_i, lever_j)."""
-    rel = -(lin[i, 0] * dx + lin[i, 1] * dy + ang[i] * lever_i)
+def _load(lin, ang, i, j):
+    """Bodies i's and j's velocity and turning rate from per-body vectors, as one tuple
+    (v_ix, v_iy, ω_i, v_jx, v_jy, ω_j); zeros for j < 0, a wall, which does not move."""
     if j >= 0:
-        rel += lin[j, 0] * dx + lin[j, 1] * dy + ang[j] * lever_j
+        return lin[i, 0], lin[i, 1], ang[i], lin[j, 0], lin[j, 1], ang[j]
+    return lin[i, 0], lin[i, 1], ang[i], 0.0, 0.0, 0.0
+
+
+@njit(cache=True, inline="always")
+def _store(lin, ang, i, j, v):
+    """Write back what _load read."""
+    lin[i, 0], lin[i, 1], ang[i] = v[0], v[1], v[2]
+    if j >= 0:
+        lin[j, 0], lin[j, 1], ang[j] = v[3], v[4], v[5]
+
+
+@njit(cache=True, inline="always")
+def _inertia(masses, inertias, i, j):
+    """(m_i, I_i, m_j, I_j); a wall's are never used."""
+    if j >= 0:
+        return masses[i], inertias[i], masses[j], inertias[j]
+    return masses[i], inertias[i], 1.0, 1.0
+
+
+@njit(cache=True, inline="always")
+def relative(v, j, dx, dy, lever_i, lever_j):
+    """(v_j - v_i) along (dx, dy) at a contact point of bodies i and j (j < 0: a wall), for the
+    pair's loaded vectors v (_load). A point at arm a moves at v + ω × a, whose part along d is
+    v·d + ω·(a × d): the point's lever about each centre (lever_i, lever_j)."""
+    rel = -(v[0] * dx + v[1] * dy + v[2] * lever_i)
+    if j >= 0:
+        rel += v[3] * dx + v[4] * dy + v[5] * lever_j
     return rel
 
 
 @njit(cache=True, inline="always")
-def apply(lin, ang, masses, inertias, i, j, nx, ny, l0, l1, l2, l3, normal_impulse, tangent_impulse):
-    """Change the per-body vectors by impulses along a row's normal (nx, ny) and tangent
-    (-ny, nx), at its point (levers l0..l3 as Rows.lever): i pushed back, j on."""
+def kicked(v, m, j, nx, ny, l0, l1, l2, l3, normal_impulse, tangent_impulse):
+    """The pair's vectors v (_load) changed by impulses along a row's normal (nx, ny) and tangent
+    (-ny, nx), at its point (levers l0..l3 as Rows.lever): i pushed back, j on. m: _inertia."""
     px, py = normal_impulse * nx - tangent_impulse * ny, normal_impulse * ny + tangent_impulse * nx
-    lin[i, 0] -= px / masses[i]
-    lin[i, 1] -= py / masses[i]
-    ang[i] -= (normal_impulse * l0 + tangent_impulse * l1) / inertias[i]
-    if j >= 0:
-        lin[j, 0] += px / masses[j]
-        lin[j, 1] += py / masses[j]
-        ang[j] += (normal_impulse * l2 + tangent_impulse * l3) / inertias[j]
+    vix, viy = v[0] - px / m[0], v[1] - py / m[0]
+    wi = v[2] - (normal_impulse * l0 + tangent_impulse * l1) / m[1]
+    if j < 0:
+        return vix, viy, wi, v[3], v[4], v[5]
+    return vix, viy, wi, v[3] + px / m[2], v[4] + py / m[2], v[5] + (normal_impulse * l2 + tangent_impulse * l3) / m[3]
 
 
 @njit(cache=True, inline="always")
-def _friction(lin, ang, masses, inertias, i, j, nx, ny, l0, l1, l2, l3, mass_t, limit, accumulated):
-    """Coulomb friction at a row on velocities (lin, ang): the tangential impulse that stops its
-    sliding, with the row's accumulated friction impulse kept within ±limit. Returns the new
-    accumulated impulse (the impulse applied is its change)."""
-    sliding = relative(lin, ang, i, j, -ny, nx, l1, l3)
+def _friction(v, m, j, nx, ny, l0, l1, l2, l3, mass_t, limit, accumulated):
+    """Coulomb friction at a row on the pair's vectors v: the tangential impulse that stops its
+    sliding, with the row's accumulated friction impulse kept within ±limit. Returns (v, the new
+    accumulated impulse); the impulse applied is its change."""
+    sliding = relative(v, j, -ny, nx, l1, l3)
     total = min(max(accumulated - mass_t * sliding, -limit), limit)
-    apply(lin, ang, masses, inertias, i, j, nx, ny, l0, l1, l2, l3, 0.0, total - accumulated)
-    return total
+    return kicked(v, m, j, nx, ny, l0, l1, l2, l3, 0.0, total - accumulated), total
 
 
 @njit(cache=True, inline="always")
-def _meets(lin, ang, accelerations, i, j, nx, ny, lever_i, lever_j, gap, dt, rest_speed):
+def _meets(v, accelerations, i, j, nx, ny, lever_i, lever_j, gap, dt, rest_speed):
     """A row's closing speed if it meets within the step faster than the rest speed, else 0."""
-    closing = relative(lin, ang, i, j, nx, ny, lever_i, lever_j)
+    closing = relative(v, j, nx, ny, lever_i, lever_j)
     if closing >= -rest_speed:
         return 0.0
     pull = (accelerations[j, 0] * nx + accelerations[j, 1] * ny) if j >= 0 else 0.0
@@ -93,22 +117,22 @@ def _meets(lin, ang, accelerations, i, j, nx, ny, lever_i, lever_j, gap, dt, res
 
 
 @njit(cache=True, inline="always")
-def _coupling(masses, inertias, i, j, lever_r_i, lever_s_i, lever_r_j, lever_s_j):
+def _coupling(m, j, lever_r_i, lever_s_i, lever_r_j, lever_s_j):
     """The normal velocity change at one point of a manifold per unit normal impulse at another
-    (or the same) point, from their normal levers about each centre."""
-    k = 1.0 / masses[i] + lever_r_i * lever_s_i / inertias[i]
+    (or the same) point, from their normal levers about each centre. m: _inertia."""
+    k = 1.0 / m[0] + lever_r_i * lever_s_i / m[1]
     if j >= 0:
-        k += 1.0 / masses[j] + lever_r_j * lever_s_j / inertias[j]
+        k += 1.0 / m[2] + lever_r_j * lever_s_j / m[3]
     return k
 
 
 @njit(cache=True, inline="always")
-def _couplings(masses, inertias, i, j, lr0, lr2, ls0, ls2):
+def _couplings(m, j, lr0, lr2, ls0, ls2):
     """k11, k22, k12 of the two points r and s of a manifold (same bodies and normal), from their
     normal levers (lr0, lr2) and (ls0, ls2)."""
-    k11 = _coupling(masses, inertias, i, j, lr0, lr0, lr2, lr2)
-    k22 = _coupling(masses, inertias, i, j, ls0, ls0, ls2, ls2)
-    k12 = _coupling(masses, inertias, i, j, lr0, ls0, lr2, ls2)
+    k11 = _coupling(m, j, lr0, lr0, lr2, lr2)
+    k22 = _coupling(m, j, ls0, ls0, ls2, ls2)
+    k12 = _coupling(m, j, lr0, ls0, lr2, ls2)
     return k11, k22, k12
 
 
@@ -162,43 +186,54 @@ def collide(rows, count, lin, ang, accelerations, masses, inertias, restitution,
         r = 0
         while r < count:
             i, j, nx, ny = I[r], J[r], N[r, 0], N[r, 1]
-            closing = _meets(lin, ang, accelerations, i, j, nx, ny, L[r, 0], L[r, 2], gap[r], dt, rest_speed)
+            v, m = _load(lin, ang, i, j), _inertia(masses, inertias, i, j)
+            closing = _meets(v, accelerations, i, j, nx, ny, L[r, 0], L[r, 2], gap[r], dt, rest_speed)
             if partner[r] == r + 1:
                 s = r + 1
-                other = _meets(lin, ang, accelerations, i, j, nx, ny, L[s, 0], L[s, 2], gap[s], dt, rest_speed)
+                other = _meets(v, accelerations, i, j, nx, ny, L[s, 0], L[s, 2], gap[s], dt, rest_speed)
                 if closing < 0.0 and other < 0.0:
-                    k11, k22, k12 = _couplings(masses, inertias, i, j, L[r, 0], L[r, 2], L[s, 0], L[s, 2])
+                    k11, k22, k12 = _couplings(m, j, L[r, 0], L[r, 2], L[s, 0], L[s, 2])
                     possible, j1, j2 = _together(k11, k22, k12, closing, other, restitution)
                     if possible:
-                        apply(lin, ang, masses, inertias, i, j, nx, ny, L[r, 0], L[r, 1], L[r, 2], L[r, 3], j1, 0.0)
-                        apply(lin, ang, masses, inertias, i, j, nx, ny, L[s, 0], L[s, 1], L[s, 2], L[s, 3], j2, 0.0)
+                        v = kicked(v, m, j, nx, ny, L[r, 0], L[r, 1], L[r, 2], L[r, 3], j1, 0.0)
+                        v = kicked(v, m, j, nx, ny, L[s, 0], L[s, 1], L[s, 2], L[s, 3], j2, 0.0)
                         hit[r] += j1
                         hit[s] += j2
                         if friction > 0.0:
                             for q in (r, s):
-                                slid[q] = _friction(lin, ang, masses, inertias, i, j, nx, ny, L[q, 0], L[q, 1],
-                                                    L[q, 2], L[q, 3], mass_t[q], friction * hit[q], slid[q])
+                                v, slid[q] = _friction(v, m, j, nx, ny, L[q, 0], L[q, 1], L[q, 2], L[q, 3],
+                                                       mass_t[q], friction * hit[q], slid[q])
+                        _store(lin, ang, i, j, v)
                         met = True
                         r += 2
                         continue
             if closing < 0.0:
                 impulse = newton_impulse(closing, restitution, mass[r])
-                apply(lin, ang, masses, inertias, i, j, nx, ny, L[r, 0], L[r, 1], L[r, 2], L[r, 3], impulse, 0.0)
+                v = kicked(v, m, j, nx, ny, L[r, 0], L[r, 1], L[r, 2], L[r, 3], impulse, 0.0)
                 hit[r] += impulse
                 if friction > 0.0:
-                    slid[r] = _friction(lin, ang, masses, inertias, i, j, nx, ny, L[r, 0], L[r, 1], L[r, 2], L[r, 3],
-                                        mass_t[r], friction * hit[r], slid[r])
+                    v, slid[r] = _friction(v, m, j, nx, ny, L[r, 0], L[r, 1], L[r, 2], L[r, 3], mass_t[r],
+                                           friction * hit[r], slid[r])
+                _store(lin, ang, i, j, v)
                 met = True
             r += 1
         if not met:
             return
 
 
-@njit(cache=True, inline="always")
-def _closing(i, j, nx, ny, lever_i, lever_j, lin, ang, push_lin, push_ang):
-    """Relative velocity along (nx, ny) of the sum of two per-body vectors, each taken apart."""
-    return (relative(lin, ang, i, j, nx, ny, lever_i, lever_j)
-            + relative(push_lin, push_ang, i, j, nx, ny, lever_i, lever_j))
+@njit(cache=True)
+def _along_rows(rows, count, lin, ang, tangent):
+    """Each row's relative velocity (count,) of the per-body vectors (lin, ang), along its normal,
+    or along its tangent (-n_y, n_x) if `tangent`."""
+    I, J, N, L = rows.i, rows.j, rows.normal, rows.lever
+    out = np.empty(count)
+    for r in range(count):
+        v = _load(lin, ang, I[r], J[r])
+        if tangent:
+            out[r] = relative(v, J[r], -N[r, 1], N[r, 0], L[r, 1], L[r, 3])
+        else:
+            out[r] = relative(v, J[r], N[r, 0], N[r, 1], L[r, 0], L[r, 2])
+    return out
 
 
 @njit(cache=True)
@@ -210,51 +245,57 @@ def solve_velocities(rows, count, lin, ang, accelerations, masses, inertias, fri
     push_lin[:] = 0.0
     push_ang[:] = 0.0
     mean_lin = lin + 0.5 * dt * accelerations
+    # each row's relative velocity without contact impulses: the same in every sweep
+    base, base_t = _along_rows(rows, count, mean_lin, ang, False), _along_rows(rows, count, mean_lin, ang, True)
     I, J, N, L, impulses, frictions = rows.i, rows.j, rows.normal, rows.lever, rows.impulse, rows.friction
     gap, partner, mass, mass_t = rows.gap, rows.partner, rows.mass, rows.mass_t
     for r in range(count):
         if impulses[r] != 0.0 or frictions[r] != 0.0:
-            apply(push_lin, push_ang, masses, inertias, I[r], J[r], N[r, 0], N[r, 1], L[r, 0], L[r, 1], L[r, 2],
-                  L[r, 3], 0.5 * impulses[r], 0.5 * frictions[r])
+            i, j = I[r], J[r]
+            v = kicked(_load(push_lin, push_ang, i, j), _inertia(masses, inertias, i, j), j, N[r, 0], N[r, 1],
+                       L[r, 0], L[r, 1], L[r, 2], L[r, 3], 0.5 * impulses[r], 0.5 * frictions[r])
+            _store(push_lin, push_ang, i, j, v)
     for _ in range(iterations):   # a sweep that changes nothing ends the solve: the next would too
         changed = False
         for r in range(count):
             if friction > 0.0:   # friction first, within what the normal impulse allowed last sweep
                 i, j, nx, ny = I[r], J[r], N[r, 0], N[r, 1]
-                sliding = _closing(i, j, -ny, nx, L[r, 1], L[r, 3], mean_lin, ang, push_lin, push_ang)
+                v = _load(push_lin, push_ang, i, j)
+                sliding = base_t[r] + relative(v, j, -ny, nx, L[r, 1], L[r, 3])
                 limit = friction * impulses[r]
                 spread = min(max(frictions[r] - 2.0 * mass_t[r] * sliding, -limit), limit)
                 if spread != frictions[r]:
-                    apply(push_lin, push_ang, masses, inertias, i, j, nx, ny, L[r, 0], L[r, 1], L[r, 2], L[r, 3],
-                          0.0, 0.5 * (spread - frictions[r]))
+                    v = kicked(v, _inertia(masses, inertias, i, j), j, nx, ny, L[r, 0], L[r, 1], L[r, 2], L[r, 3],
+                               0.0, 0.5 * (spread - frictions[r]))
+                    _store(push_lin, push_ang, i, j, v)
                     frictions[r] = spread
                     changed = True
         r = 0
         while r < count:
             i, j, nx, ny = I[r], J[r], N[r, 0], N[r, 1]
-            closing = _closing(i, j, nx, ny, L[r, 0], L[r, 2], mean_lin, ang, push_lin, push_ang)
+            v, m = _load(push_lin, push_ang, i, j), _inertia(masses, inertias, i, j)
+            closing = base[r] + relative(v, j, nx, ny, L[r, 0], L[r, 2])
             target = -max(gap[r], 0.0) / dt
             if partner[r] == r + 1:
                 s = r + 1
-                second = _closing(i, j, nx, ny, L[s, 0], L[s, 2], mean_lin, ang, push_lin, push_ang)
-                k11, k22, k12 = _couplings(masses, inertias, i, j, L[r, 0], L[r, 2], L[s, 0], L[s, 2])
+                second = base[s] + relative(v, j, nx, ny, L[s, 0], L[s, 2])
+                k11, k22, k12 = _couplings(m, j, L[r, 0], L[r, 2], L[s, 0], L[s, 2])
                 k11, k22, k12 = 0.5 * k11, 0.5 * k22, 0.5 * k12   # an impulse moves the mean velocity by half
                 a1, a2, target2 = impulses[r], impulses[s], -max(gap[s], 0.0) / dt
                 found, x1, x2 = _block(k11, k22, k12, closing - target - (k11 * a1 + k12 * a2),
                                        second - target2 - (k12 * a1 + k22 * a2))
                 if found:
-                    apply(push_lin, push_ang, masses, inertias, i, j, nx, ny, L[r, 0], L[r, 1], L[r, 2], L[r, 3],
-                          0.5 * (x1 - a1), 0.0)
-                    apply(push_lin, push_ang, masses, inertias, i, j, nx, ny, L[s, 0], L[s, 1], L[s, 2], L[s, 3],
-                          0.5 * (x2 - a2), 0.0)
+                    v = kicked(v, m, j, nx, ny, L[r, 0], L[r, 1], L[r, 2], L[r, 3], 0.5 * (x1 - a1), 0.0)
+                    v = kicked(v, m, j, nx, ny, L[s, 0], L[s, 1], L[s, 2], L[s, 3], 0.5 * (x2 - a2), 0.0)
+                    _store(push_lin, push_ang, i, j, v)
                     impulses[r], impulses[s] = x1, x2
                     changed = changed or (a1, a2) != (x1, x2)
                     r += 2
                     continue
             total = max(impulses[r] + 2.0 * mass[r] * (target - closing), 0.0)
             if total != impulses[r]:
-                apply(push_lin, push_ang, masses, inertias, i, j, nx, ny, L[r, 0], L[r, 1], L[r, 2], L[r, 3],
-                      0.5 * (total - impulses[r]), 0.0)
+                v = kicked(v, m, j, nx, ny, L[r, 0], L[r, 1], L[r, 2], L[r, 3], 0.5 * (total - impulses[r]), 0.0)
+                _store(push_lin, push_ang, i, j, v)
                 impulses[r] = total
                 changed = True
             r += 1
@@ -270,22 +311,30 @@ def solve_positions(rows, count, lin, ang, accelerations, masses, inertias, dt, 
     shift_lin[:] = 0.0
     shift_ang[:] = 0.0
     rows.pseudo[:count] = 0.0
-    mean_lin = lin + 0.5 * dt * accelerations
     I, J, N, L, pseudo = rows.i, rows.j, rows.normal, rows.lever, rows.pseudo
     gap, slop, mass = rows.gap, rows.slop, rows.mass
+    over = np.flatnonzero(-gap[:count] - slop[:count] > 0.0)   # the rows with an overlap to take out
+    if over.shape[0] == 0:
+        return
+    mean_lin = lin + 0.5 * dt * accelerations
+    solved = np.empty(over.shape[0])   # each one's relative normal velocity after the solve
+    for k in range(over.shape[0]):
+        r = over[k]
+        i, j, nx, ny = I[r], J[r], N[r, 0], N[r, 1]
+        solved[k] = (relative(_load(mean_lin, ang, i, j), j, nx, ny, L[r, 0], L[r, 2])
+                     + relative(_load(push_lin, push_ang, i, j), j, nx, ny, L[r, 0], L[r, 2]))
     for _ in range(iterations):
         changed = False
-        for r in range(count):
-            excess = -gap[r] - slop[r]
-            if excess <= 0.0:
-                continue
+        for k in range(over.shape[0]):
+            r = over[k]
             i, j, nx, ny = I[r], J[r], N[r, 0], N[r, 1]
-            closing = (_closing(i, j, nx, ny, L[r, 0], L[r, 2], mean_lin, ang, push_lin, push_ang)
-                       + relative(shift_lin, shift_ang, i, j, nx, ny, L[r, 0], L[r, 2]))
-            total = max(pseudo[r] + mass[r] * (POSITION_RATE * excess / dt - closing), 0.0)
+            v = _load(shift_lin, shift_ang, i, j)
+            closing = solved[k] + relative(v, j, nx, ny, L[r, 0], L[r, 2])
+            total = max(pseudo[r] + mass[r] * (POSITION_RATE * (-gap[r] - slop[r]) / dt - closing), 0.0)
             if total != pseudo[r]:
-                apply(shift_lin, shift_ang, masses, inertias, i, j, nx, ny, L[r, 0], L[r, 1], L[r, 2], L[r, 3],
-                      total - pseudo[r], 0.0)
+                v = kicked(v, _inertia(masses, inertias, i, j), j, nx, ny, L[r, 0], L[r, 1], L[r, 2], L[r, 3],
+                           total - pseudo[r], 0.0)
+                _store(shift_lin, shift_ang, i, j, v)
                 pseudo[r] = total
                 changed = True
         if not changed:
@@ -298,26 +347,26 @@ def come_to_rest(rows, count, lin, ang, masses, inertias, friction, iterations):
     normal velocity 0 (their accumulated impulse may fall, never below 0), and friction takes
     out what sliding it can. Each correction takes one row's relative velocity toward 0, which
     only ever lowers kinetic energy: a resting contact does not bounce."""
-    pressed = rows.impulse[:count] > 0.0
-    if not pressed.any():
+    pressed = np.flatnonzero(rows.impulse[:count] > 0.0)
+    if pressed.shape[0] == 0:
         return
     I, J, N, L, impulses, frictions = rows.i, rows.j, rows.normal, rows.lever, rows.impulse, rows.friction
     mass, mass_t = rows.mass, rows.mass_t
     for _ in range(iterations):   # a sweep that changes nothing ends it: the next would too
         changed = False
-        for r in range(count):
-            if pressed[r]:
-                i, j, nx, ny = I[r], J[r], N[r, 0], N[r, 1]
-                total = max(impulses[r] - mass[r] * relative(lin, ang, i, j, nx, ny, L[r, 0], L[r, 2]), 0.0)
-                if total != impulses[r]:
-                    apply(lin, ang, masses, inertias, i, j, nx, ny, L[r, 0], L[r, 1], L[r, 2], L[r, 3],
-                          total - impulses[r], 0.0)
-                    impulses[r] = total
-                    changed = True
-                if friction > 0.0:
-                    slid = _friction(lin, ang, masses, inertias, i, j, nx, ny, L[r, 0], L[r, 1], L[r, 2], L[r, 3],
-                                     mass_t[r], friction * total, frictions[r])
-                    changed = changed or slid != frictions[r]
-                    frictions[r] = slid
+        for r in pressed:
+            i, j, nx, ny = I[r], J[r], N[r, 0], N[r, 1]
+            v, m = _load(lin, ang, i, j), _inertia(masses, inertias, i, j)
+            total = max(impulses[r] - mass[r] * relative(v, j, nx, ny, L[r, 0], L[r, 2]), 0.0)
+            if total != impulses[r]:
+                v = kicked(v, m, j, nx, ny, L[r, 0], L[r, 1], L[r, 2], L[r, 3], total - impulses[r], 0.0)
+                impulses[r] = total
+                changed = True
+            if friction > 0.0:
+                v, slid = _friction(v, m, j, nx, ny, L[r, 0], L[r, 1], L[r, 2], L[r, 3], mass_t[r], friction * total,
+                                    frictions[r])
+                changed = changed or slid != frictions[r]
+                frictions[r] = slid
+            _store(lin, ang, i, j, v)
         if not changed:
             break
