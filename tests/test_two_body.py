@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import collisim
-from collisim.response.rows import SLOP, margins, new_rows, pair_rows
+from collisim.response.rows import SLOP, margins, new_found, new_rows, pair_manifolds, rows_from
 from collisim.response.solver import POSITION_RATE, collide, solve_positions, solve_velocities
 
 DT = 1 / 60
@@ -29,7 +29,10 @@ def rows_of(positions, velocities, masses, radii):
     margin = np.empty(2)
     margins(velocities, np.zeros(2), np.zeros((2, 2)), radii, DT, margin)
     rows = new_rows(2)
-    count = pair_rows(bodies, np.zeros((0, 2)), margin, DT, np.array([[0, 1]]), rows, np.zeros((1, 2)))
+    found = new_found(1)
+    k = pair_manifolds(bodies, np.zeros((0, 2)), margin, DT, np.array([[0, 1]]), found, 0, np.zeros(2, np.bool_),
+                       np.zeros((1, 2)))
+    count = rows_from(found, k, bodies, rows)
     return rows, count, bodies
 
 

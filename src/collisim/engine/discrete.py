@@ -34,7 +34,8 @@ from ..geometry.box import centre_range
 from ..geometry.polygon import place_polygons
 from ..model.kinds import CIRCLE, N_WALLS, PAIR, SEGMENT, SUPPORT, WALL
 from ..narrowphase.hierarchy import NOT_COUNTED, record_levels
-from ..response.rows import margins, near_segments, new_rows, pair_rows, segment_rows, wall_rows
+from ..response.rows import (margins, near_segments, new_found, new_rows, pair_manifolds, rows_from,
+                             segment_manifolds, wall_manifolds)
 from ..response.solver import collide, come_to_rest, solve_positions, solve_velocities
 from ..response.warmstart import no_memory, recall, remember
 from ..response.statics import bounce_between_walls
@@ -104,9 +105,10 @@ def sort_pairs(pairs, n):
 
 
 @njit(cache=True)
-def _contact_phases(bodies, statics, broad, dt, margin, lo, hi, vertices, moved, rows, phase_cycles, t):
+def _contact_phases(bodies, statics, broad, dt, margin, lo, hi, vertices, moved, found, rows, phase_cycles, t):
     """broad and narrow: the step's contact rows, from the state at its start. vertices (V, 2)
-    receives the polygons' world vertices. Returns (rows, count, candidates, t)."""
+    receives the polygons' world vertices; found and rows (response/rows.py) are kept from step
+    to step, grown when a step needs more. Returns (found, rows, count, candidates, t)."""
     b = bodies
     n = b.positions.shape[0]
     margins(b.velocities, b.angular_velocities, b.accelerations, b.radii, dt, margin)
@@ -117,18 +119,19 @@ def _contact_phases(bodies, statics, broad, dt, margin, lo, hi, vertices, moved,
         pairs = sort_pairs(candidate_pairs(broad, lo, hi), n)
         t = _lap(phase_cycles, BROAD, t)
     near = near_segments(b, margin, statics.segments)
-    needed = 2 * (pairs.shape[0] + near) + 8 * n   # up to two points a pair, a polygon and segment, a body and wall
-    if rows.i.shape[0] < needed:
-        rows = new_rows(needed + needed // 2)   # kept from step to step: grown, never shrunk
-    count = pair_rows(b, vertices, margin, dt, pairs, rows, moved)
+    most = pairs.shape[0] + near + 4 * n   # a manifold a pair, a polygon and segment, a body and wall
+    if found.shape[0] < most:
+        found = new_found(most + most // 2)
     in_pair = np.zeros(n, np.bool_)
-    for r in range(count):
-        in_pair[rows.i[r]] = in_pair[rows.j[r]] = True
-    count = wall_rows(b, vertices, margin, statics.box, statics.rest_speed, in_pair, rows, count)
+    k = pair_manifolds(b, vertices, margin, dt, pairs, found, 0, in_pair, moved)
+    k = wall_manifolds(b, vertices, margin, statics.box, statics.rest_speed, in_pair, found, k)
     if near > 0:
-        count = segment_rows(b, vertices, margin, statics.segments, rows, count)
+        k = segment_manifolds(b, vertices, margin, statics.segments, found, k)
+    if rows.i.shape[0] < 2 * k:   # up to two points a manifold
+        rows = new_rows(3 * k)
+    count = rows_from(found, k, b, rows)
     t = _lap(phase_cycles, NARROW, t)
-    return rows, count, pairs.shape[0], t
+    return found, rows, count, pairs.shape[0], t
 
 
 @njit(cache=True)
@@ -215,9 +218,8 @@ def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, memor
     scratch = statics_scratch(n, s.segments.shape[0])
     # each step's contacts are found from the state that ends the step before (so a frame's
     # candidates are those of the state it records); the first, from the state given
-    rows, count, candidates, t = _contact_phases(b, s, broad, dt, margin, lo, hi, vertices, moved, new_rows(8 * n),
-                                                 phase_cycles,
-                                                 cycles())
+    found, rows, count, candidates, t = _contact_phases(b, s, broad, dt, margin, lo, hi, vertices, moved,
+                                                        new_found(4 * n), new_rows(8 * n), phase_cycles, cycles())
     for frame in range(out.positions.shape[0]):
         frame_collisions = out.collisions[frame]
         for _ in range(substeps):
@@ -246,8 +248,8 @@ def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, memor
             t = _lap(phase_cycles, STATICS, t)
             if count > 0 and settle_in_map(s.map, b.positions, b.radii):
                 t = _lap(phase_cycles, SETTLE, t)
-            rows, count, candidates, t = _contact_phases(b, s, broad, dt, margin, lo, hi, vertices, moved, rows,
-                                                         phase_cycles, t)
+            found, rows, count, candidates, t = _contact_phases(b, s, broad, dt, margin, lo, hi, vertices, moved,
+                                                                found, rows, phase_cycles, t)
         out.candidates[frame] = candidates
         record_levels(s.volumes, b, broad, vertices, out.hierarchy[frame])
         out.positions[frame] = b.positions

@@ -63,7 +63,7 @@ def _segment_phase(bodies, statics, scratch, log, now, frame_collisions):
         for c in range(count):
             i, k = found[c, 0], found[c, 1]
             if b.shapes[i] != CIRCLE:
-                continue   # a polygon meets segments through the contact solver (response/rows.segment_rows)
+                continue   # a polygon meets segments through the contact solver (response/rows.segment_manifolds)
             impulse, x, y = bounce_off_segment(b.positions, b.velocities, b.radii, b.masses, s.segments, i, k,
                                                s.restitution)
             if impulse > 0.0:

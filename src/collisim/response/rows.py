@@ -6,7 +6,7 @@ Rows are made from the state at the *start* of the step, before anything moves:
   speculative margins, `margins`): a pair still apart gives *speculative* rows, which only act
   if the step would close the gap past zero (so an impact stops the bodies where they meet
   instead of sinking one into the other, and a ball resting on a ball is held by it);
-* a polygon and a segment within its margin (segment_rows; circles meet segments in the
+* a polygon and a segment within its margin (segment_manifolds; circles meet segments in the
   statics phase, response/statics.py);
 * a body and a box wall: a polygon within its margin of the wall always; a circle when it is
   within its margin and either meets the wall slower than the rest speed (it rests there) or
@@ -14,8 +14,12 @@ Rows are made from the state at the *start* of the step, before anything moves:
   neighbours). A lone circle's fast impact is left to the wall bounce (response/statics.py),
   which reflects the overshoot exactly.
 
-A manifold (narrowphase/manifold.py) gives one row per point: two for a face on a face. Each row
-has a unit normal from body i toward body j (into the wall), its point, the point's arm from
+The contact phases first collect the *manifolds* of these contacts (narrowphase/manifold.py),
+one record each in a scratch array (`new_found`: who meets whom, how far a point may be and
+still count, the slop), then `rows_from` makes one row per point of each — two for a face on a
+face. (Collected first, the rows are written in one loop that reads every array once: a helper
+handed the Rows tuple costs a copy of its sixteen references per call, more than its work.)
+Each row has a unit normal from body i toward body j (into the wall), its point, the point's arm from
 each centre, the gap along the normal (negative for an overlap) and the effective masses along
 the normal and the tangent. Rows are in canonical order — pairs in (i, j) order, then walls in
 (body, wall) order, points in manifold order — so the same input gives the same bytes whichever
@@ -68,56 +72,35 @@ def margins(velocities, angular_velocities, accelerations, radii, dt, out):
         out[i] = max(min(speed * dt + pull * dt * dt, radii[i]), MARGIN * radii[i])
 
 
-@njit(cache=True, inline="always")
-def _effective_masses(rows, r, masses, inertias):
-    """Row r's effective masses along the normal and the tangent: 1 / (the velocity change at the
-    point along that direction per unit impulse along it)."""
-    i, j, lever = rows.i[r], rows.j[r], rows.lever[r]
-    normal = 1.0 / masses[i] + lever[0] * lever[0] / inertias[i]
-    tangent = 1.0 / masses[i] + lever[1] * lever[1] / inertias[i]
-    if j >= 0:
-        normal += 1.0 / masses[j] + lever[2] * lever[2] / inertias[j]
-        tangent += 1.0 / masses[j] + lever[3] * lever[3] / inertias[j]
-    rows.mass[r], rows.mass_t[r] = 1.0 / normal, 1.0 / tangent
+# a found manifold's record (new_found): the bodies (j = -1 for a static, `wall` naming it), the
+# distance within which its points count, their slop, then the manifold itself (manifold.py):
+# nx, ny, point count, then depth, x, y of each point
+F_I, F_J, F_WALL, F_REACH, F_SLOP, F_MANIFOLD = 0, 1, 2, 3, 4, 5
+FOUND = F_MANIFOLD + 9
+APART = 1.0 + 1e-9   # bounding circles this much farther than a reach are apart: no exact test
+
+
+@njit(cache=True)
+def new_found(capacity):
+    """Room for `capacity` manifold records (capacity, FOUND)."""
+    return np.empty((max(capacity, 1), FOUND))
 
 
 @njit(cache=True, inline="always")
-def _set_levers(rows, r, ax_i, ay_i, ax_j, ay_j, masses, inertias):
-    """Row r's levers from the point's arms from each centre, and its effective masses."""
-    nx, ny = rows.normal[r, 0], rows.normal[r, 1]
-    lever = rows.lever[r]
-    lever[0], lever[1] = ax_i * ny - ay_i * nx, ax_i * nx + ay_i * ny
-    lever[2], lever[3] = 0.0, 0.0
-    if rows.j[r] >= 0:
-        lever[2], lever[3] = ax_j * ny - ay_j * nx, ax_j * nx + ay_j * ny
-    _effective_masses(rows, r, masses, inertias)
+def _record(found, k, i, j, wall, reach, slop, m):
+    """Record k: manifold m of bodies i and j (or of body i and a static `wall`)."""
+    record = found[k]
+    record[F_I], record[F_J], record[F_WALL], record[F_REACH], record[F_SLOP] = i, j, wall, reach, slop
+    nx, ny, count, d0, px0, py0, d1, px1, py1 = m
+    record[5], record[6], record[7], record[8], record[9] = nx, ny, count, d0, px0
+    record[10], record[11], record[12], record[13] = py0, d1, px1, py1
+    return k + 1
 
 
 @njit(cache=True, inline="always")
-def _add(rows, r, i, j, wall, feature, nx, ny, gap, px, py, positions, masses, inertias, slop):
-    """Row r: a contact point of bodies i and j (or a wall) at (px, py), `gap` apart along n."""
-    rows.i[r], rows.j[r], rows.wall[r], rows.feature[r], rows.partner[r] = i, j, wall, feature, -1
-    rows.normal[r, 0], rows.normal[r, 1] = nx, ny
-    rows.point[r, 0], rows.point[r, 1] = px, py
-    ax_j, ay_j = (px - positions[j, 0], py - positions[j, 1]) if j >= 0 else (0.0, 0.0)
-    _set_levers(rows, r, px - positions[i, 0], py - positions[i, 1], ax_j, ay_j, masses, inertias)
-    rows.gap[r], rows.slop[r] = gap, slop
-    rows.hit[r] = rows.impulse[r] = rows.friction[r] = rows.pseudo[r] = 0.0
-
-
-@njit(cache=True, inline="always")
-def _add_manifold(rows, count, m, i, j, wall, margin, positions, masses, inertias, slop):
-    """The points of manifold m closer than margin, as rows from `count`. Returns the new count."""
-    nx, ny, points = m[0], m[1], m[2]
-    first = count
-    for k in range(points):
-        depth, px, py = (m[3], m[4], m[5]) if k == 0 else (m[6], m[7], m[8])
-        if -depth < margin:
-            _add(rows, count, i, j, wall, k, nx, ny, -depth, px, py, positions, masses, inertias, slop)
-            count += 1
-    if count - first == 2:
-        rows.partner[first], rows.partner[first + 1] = first + 1, first
-    return count
+def _reaches(m, reach):
+    """Has manifold m a point closer than reach?"""
+    return m[2] > 0 and -m[3] < reach
 
 
 @njit(cache=True)
@@ -139,83 +122,129 @@ def _circles_at_contact(positions, velocities, radii, i, j, dt, m):
     return nx, ny, 1, -gap, x + radii[i] * nx, y + radii[i] * ny, 0.0, 0.0, 0.0
 
 
-@njit(cache=True, inline="always")
-def _on_line_of_centres(rows, r, radius_i, radius_j, masses, inertias):
-    """Row r of two circles (or a circle and a wall, radius_j 0): they touch on their line of
-    centres, so a push along it turns neither (lever exactly 0: the product of the rounded arm
-    with the normal would leave a residue that sets circles spinning), and friction turns each
-    by its radius."""
-    lever = rows.lever[r]
-    lever[0], lever[1], lever[2], lever[3] = 0.0, radius_i, 0.0, -radius_j
-    _effective_masses(rows, r, masses, inertias)
-
-
 @njit(cache=True)
-def pair_rows(bodies, vertices, margin, dt, pairs, rows, moved):
-    """Fill rows with the contact points of pairs (k, 2) (canonical order, i < j) closer than the
-    sum of their margins. Returns the number of rows. moved: scratch for narrowphase/manifold.py."""
-    b = bodies
-    count = 0
+def pair_manifolds(bodies, vertices, margin, dt, pairs, found, k, in_pair, moved):
+    """Record after found[:k] the manifolds of pairs (p, 2) (canonical order, i < j) with a point
+    closer than the sum of their margins; in_pair (n,) marks their bodies. Returns the new
+    record count. moved: scratch for narrowphase/manifold.py."""
+    shapes, positions, velocities, radii = bodies.shapes, bodies.positions, bodies.velocities, bodies.radii
+    start = bodies.vertex_start
     for c in range(pairs.shape[0]):
         i, j = pairs[c, 0], pairs[c, 1]
         reach = margin[i] + margin[j]
-        m = pair_manifold(b.shapes, b.positions, b.radii, vertices, b.vertex_start, i, j, reach, moved)
-        circles = b.shapes[i] == CIRCLE and b.shapes[j] == CIRCLE
+        dx, dy, apart = positions[j, 0] - positions[i, 0], positions[j, 1] - positions[i, 1], radii[i] + radii[j]
+        if dx * dx + dy * dy > (APART * (apart + reach)) ** 2:
+            continue   # their bounding circles are farther apart than they can close
+        m = pair_manifold(shapes, positions, radii, vertices, start, i, j, reach, moved)
+        circles = shapes[i] == CIRCLE and shapes[j] == CIRCLE
         if circles and m[2] == 1 and m[3] < 0.0:
-            m = _circles_at_contact(b.positions, b.velocities, b.radii, i, j, dt, m)
-        first = count
-        count = _add_manifold(rows, count, m, i, j, -1, reach, b.positions, b.masses, b.inertias,
-                              SLOP * min(b.radii[i], b.radii[j]))
-        if circles and count > first:   # two circles meet on their line of centres, wherever that is
-            _on_line_of_centres(rows, first, b.radii[i], b.radii[j], b.masses, b.inertias)
-    return count
+            m = _circles_at_contact(positions, velocities, radii, i, j, dt, m)
+        if _reaches(m, reach):
+            k = _record(found, k, i, j, -1, reach, SLOP * min(radii[i], radii[j]), m)
+            in_pair[i] = in_pair[j] = True
+    return k
 
 
 @njit(cache=True)
-def wall_rows(bodies, vertices, margin, box, rest_speed, in_pair, rows, start):
-    """Append after rows[:start] the rows of bodies held by a box wall (see the module's rule).
-    in_pair (n,) bool: bodies in a pair row. Returns the new row count. No overlap of a wall is
-    tolerated: a wall cannot give way."""
-    b = bodies
-    count = start
-    for i in range(b.positions.shape[0]):
+def wall_manifolds(bodies, vertices, margin, box, rest_speed, in_pair, found, k):
+    """Record after found[:k] the manifolds of bodies held by a box wall (see the module's rule).
+    in_pair (n,) bool: bodies in a pair's manifold. Returns the new record count. No overlap of
+    a wall is tolerated: a wall cannot give way."""
+    shapes, positions, velocities, radii, start = (bodies.shapes, bodies.positions, bodies.velocities,
+                                                   bodies.radii, bodies.vertex_start)
+    for i in range(positions.shape[0]):
         for wall in range(4):
-            if b.shapes[i] != CIRCLE:
-                m = polygon_wall_manifold(vertices, b.vertex_start, i, box, wall, margin[i])
-                count = _add_manifold(rows, count, m, i, -1, wall, margin[i], b.positions, b.masses, b.inertias, 0.0)
+            axis, bound, inward = wall_geometry(box, wall, radii[i])
+            gap = (positions[i, axis] - bound) * inward   # of the body's bounding circle
+            if shapes[i] != CIRCLE:
+                if gap > APART * margin[i]:
+                    continue
+                m = polygon_wall_manifold(vertices, start, i, box, wall, margin[i])
+                if _reaches(m, margin[i]):
+                    k = _record(found, k, i, -1, wall, margin[i], 0.0, m)
                 continue
-            axis, bound, inward = wall_geometry(box, wall, b.radii[i])
-            gap = (b.positions[i, axis] - bound) * inward
             if gap >= margin[i]:
                 continue
-            if -b.velocities[i, axis] * inward > rest_speed and not in_pair[i]:
+            if -velocities[i, axis] * inward > rest_speed and not in_pair[i]:
                 continue   # a lone fast impact: the exact wall bounce takes it
             nx, ny = (-inward, 0.0) if axis == 0 else (0.0, -inward)
-            reach = b.radii[i] + 0.5 * gap   # midway between the circle and the wall
-            _add(rows, count, i, -1, wall, 0, nx, ny, gap, b.positions[i, 0] + reach * nx,
-                 b.positions[i, 1] + reach * ny, b.positions, b.masses, b.inertias, 0.0)
-            _on_line_of_centres(rows, count, b.radii[i], 0.0, b.masses, b.inertias)
-            count += 1
-    return count
+            reach = radii[i] + 0.5 * gap   # midway between the circle and the wall
+            m = (nx, ny, 1, -gap, positions[i, 0] + reach * nx, positions[i, 1] + reach * ny, 0.0, 0.0, 0.0)
+            k = _record(found, k, i, -1, wall, margin[i], 0.0, m)
+    return k
 
 
 @njit(cache=True)
-def segment_rows(bodies, vertices, margin, segments, rows, start):
-    """Append after rows[:start] the rows of polygons within their margin of a segment (m, 4):
-    j = -1, wall = N_WALLS + the segment's number. Returns the new row count. A segment, like a
-    wall, cannot give way: no overlap is tolerated."""
-    b = bodies
-    count = start
-    for i in range(b.positions.shape[0]):
-        if b.shapes[i] == CIRCLE:
+def segment_manifolds(bodies, vertices, margin, segments, found, k):
+    """Record after found[:k] the manifolds of polygons within their margin of a segment (m, 4):
+    j = -1, wall = N_WALLS + the segment's number. Returns the new record count. A segment, like
+    a wall, cannot give way: no overlap is tolerated."""
+    shapes, positions, radii, start = bodies.shapes, bodies.positions, bodies.radii, bodies.vertex_start
+    for i in range(positions.shape[0]):
+        if shapes[i] == CIRCLE:
             continue
-        x, y, reach = b.positions[i, 0], b.positions[i, 1], b.radii[i] + margin[i]
-        for k in range(segments.shape[0]):
-            if _beyond(segments, k, x, y, reach):
+        x, y, reach = positions[i, 0], positions[i, 1], radii[i] + margin[i]
+        for s in range(segments.shape[0]):
+            if _beyond(segments, s, x, y, reach):
                 continue
-            m = polygon_segment_manifold(vertices, b.vertex_start, i, segments, k, margin[i])
-            count = _add_manifold(rows, count, m, i, -1, N_WALLS + k, margin[i], b.positions, b.masses, b.inertias,
-                                  0.0)
+            m = polygon_segment_manifold(vertices, start, i, segments, s, margin[i])
+            if _reaches(m, margin[i]):
+                k = _record(found, k, i, -1, N_WALLS + s, margin[i], 0.0, m)
+    return k
+
+
+@njit(cache=True, inline="always")
+def _levers(ax, ay, nx, ny):
+    """A point's turning levers about a centre, from its arm (ax, ay): arm × n and arm × t."""
+    return ax * ny - ay * nx, ax * nx + ay * ny
+
+
+@njit(cache=True, inline="always")
+def _effective_mass(m_i, inertia_i, lever_i, m_j, inertia_j, lever_j, j):
+    """1 / (the velocity change at a point along a direction per unit impulse along it)."""
+    k = 1.0 / m_i + lever_i * lever_i / inertia_i
+    if j >= 0:
+        k += 1.0 / m_j + lever_j * lever_j / inertia_j
+    return 1.0 / k
+
+
+@njit(cache=True)
+def rows_from(found, k, bodies, rows):
+    """The rows of found[:k]'s manifolds: one a point closer than its record's reach, in record
+    order, then point order. A row of two circles, or of a circle and a wall, meets on their line
+    of centres, so a push along it turns neither (levers exactly 0: the product of the rounded
+    arm with the normal would leave a residue that sets circles spinning), and friction turns
+    each by its radius. Returns the number of rows."""
+    shapes, positions, radii, masses, inertias = (bodies.shapes, bodies.positions, bodies.radii, bodies.masses,
+                                                  bodies.inertias)
+    I, J, W, F, P, N, X, L = rows.i, rows.j, rows.wall, rows.feature, rows.partner, rows.normal, rows.point, rows.lever
+    gap, slop, mass, mass_t = rows.gap, rows.slop, rows.mass, rows.mass_t
+    count = 0
+    for f in range(k):
+        i, j, wall = int(found[f, F_I]), int(found[f, F_J]), int(found[f, F_WALL])
+        nx, ny, points = found[f, F_MANIFOLD], found[f, F_MANIFOLD + 1], int(found[f, F_MANIFOLD + 2])
+        circles = shapes[i] == CIRCLE and (j < 0 or shapes[j] == CIRCLE)
+        m_j, inertia_j = (masses[j], inertias[j]) if j >= 0 else (1.0, 1.0)
+        first = count
+        for point in range(points):
+            depth, px, py = found[f, F_MANIFOLD + 3 + 3 * point], found[f, F_MANIFOLD + 4 + 3 * point], \
+                found[f, F_MANIFOLD + 5 + 3 * point]
+            if not -depth < found[f, F_REACH]:
+                continue
+            I[count], J[count], W[count], F[count], P[count] = i, j, wall, point, -1
+            N[count, 0], N[count, 1], X[count, 0], X[count, 1] = nx, ny, px, py
+            gap[count], slop[count] = -depth, found[f, F_SLOP]
+            if circles:
+                l0, l1, l2, l3 = 0.0, radii[i], 0.0, (-radii[j] if j >= 0 else -0.0)
+            else:
+                l0, l1 = _levers(px - positions[i, 0], py - positions[i, 1], nx, ny)
+                l2, l3 = _levers(px - positions[j, 0], py - positions[j, 1], nx, ny) if j >= 0 else (0.0, 0.0)
+            L[count, 0], L[count, 1], L[count, 2], L[count, 3] = l0, l1, l2, l3
+            mass[count] = _effective_mass(masses[i], inertias[i], l0, m_j, inertia_j, l2, j)
+            mass_t[count] = _effective_mass(masses[i], inertias[i], l1, m_j, inertia_j, l3, j)
+            count += 1
+        if count - first == 2:
+            P[first], P[first + 1] = first + 1, first
     return count
 
 
@@ -229,7 +258,7 @@ def _beyond(segments, k, x, y, reach):
 
 @njit(cache=True)
 def near_segments(bodies, margin, segments):
-    """How many (polygon, segment) pairs are near enough for segment_rows to look at."""
+    """How many (polygon, segment) pairs are near enough for segment_manifolds to look at."""
     b = bodies
     near = 0
     if segments.shape[0] == 0:
