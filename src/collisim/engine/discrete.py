@@ -108,7 +108,7 @@ def sort_pairs(pairs, n):
 def _contact_phases(bodies, statics, broad, dt, margin, lo, hi, vertices, moved, found, rows, phase_cycles, t):
     """broad and narrow: the step's contact rows, from the state at its start. vertices (V, 2)
     receives the polygons' world vertices; found and rows (response/rows.py) are kept from step
-    to step, grown when a step needs more. Returns (found, rows, count, candidates, t)."""
+    to step, grown when a step needs more. Returns (found, rows, count, candidate pairs, t)."""
     b = bodies
     n = b.positions.shape[0]
     margins(b.velocities, b.angular_velocities, b.accelerations, b.radii, dt, margin)
@@ -131,7 +131,7 @@ def _contact_phases(bodies, statics, broad, dt, margin, lo, hi, vertices, moved,
         rows = new_rows(3 * k)
     count = rows_from(found, k, b, rows)
     t = _lap(phase_cycles, NARROW, t)
-    return found, rows, count, pairs.shape[0], t
+    return found, rows, count, pairs, t
 
 
 @njit(cache=True)
@@ -218,7 +218,7 @@ def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, memor
     scratch = statics_scratch(n, s.segments.shape[0])
     # each step's contacts are found from the state that ends the step before (so a frame's
     # candidates are those of the state it records); the first, from the state given
-    found, rows, count, candidates, t = _contact_phases(b, s, broad, dt, margin, lo, hi, vertices, moved,
+    found, rows, count, pairs, t = _contact_phases(b, s, broad, dt, margin, lo, hi, vertices, moved,
                                                         new_found(4 * n), new_rows(8 * n), phase_cycles, cycles())
     for frame in range(out.positions.shape[0]):
         frame_collisions = out.collisions[frame]
@@ -248,10 +248,10 @@ def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, memor
             t = _lap(phase_cycles, STATICS, t)
             if count > 0 and settle_in_map(s.map, b.positions, b.radii):
                 t = _lap(phase_cycles, SETTLE, t)
-            found, rows, count, candidates, t = _contact_phases(b, s, broad, dt, margin, lo, hi, vertices, moved,
+            found, rows, count, pairs, t = _contact_phases(b, s, broad, dt, margin, lo, hi, vertices, moved,
                                                                 found, rows, phase_cycles, t)
-        out.candidates[frame] = candidates
-        record_levels(s.volumes, b, broad, vertices, out.hierarchy[frame])
+        out.candidates[frame] = pairs.shape[0]
+        record_levels(s.volumes, b, pairs, vertices, out.hierarchy[frame])
         out.positions[frame] = b.positions
         out.velocities[frame] = b.velocities
         if out.angles.shape[1] == n:  # bodies that turn (see new_frames)

@@ -18,9 +18,11 @@ is a false positive only at the scale of SLACK). A circle's bounding circle is t
 The exact level is the narrow phase's own touching tests (narrowphase/circles.py, polygons.py):
 touching counts, as depth >= 0 does in the manifolds.
 
-The pairs are those whose bounding circles' boxes overlap, found by the world's broad phase, so
-a state's counts cost one broad-phase query and a pass over its pairs (record_levels, called by
-the discrete engine once per recorded frame).
+The pairs are those whose bounding circles' boxes overlap. Counted over any larger set of pairs
+the counts are the same (a pair whose bounding circles are apart passes no level), so the
+discrete engine counts over the candidates its broad phase found for the state's contacts
+(boxes grown by the bodies' margins): a state's counts cost a pass over its pairs, no query of
+their own (record_levels, once per recorded frame).
 """
 from __future__ import annotations
 
@@ -154,7 +156,7 @@ def each_level(shapes, positions, radii, vertices, start, volumes, pairs, out):
     return out
 
 
-def record_levels(volumes, bodies, broad, vertices, counts):
+def record_levels(volumes, bodies, pairs, vertices, counts):
     """counts (4,) <- how many pairs of the bodies' state pass each level (count_levels), for
     worlds with polygons (compiled code only). volumes is None for a world of circles, which is
     not counted and does not compile the counting (counts stay NOT_COUNTED): every level of a
@@ -164,32 +166,40 @@ def record_levels(volumes, bodies, broad, vertices, counts):
 
 
 @overload(record_levels)
-def _record_levels(volumes, bodies, broad, vertices, counts):
+def _record_levels(volumes, bodies, pairs, vertices, counts):
     if isinstance(volumes, types.NoneType):
-        return lambda volumes, bodies, broad, vertices, counts: None
+        return lambda volumes, bodies, pairs, vertices, counts: None
 
-    def record(volumes, bodies, broad, vertices, counts):
-        count_levels(bodies, broad, vertices, counts)
+    def record(volumes, bodies, pairs, vertices, counts):
+        count_levels(bodies, pairs, vertices, counts)
     return record
 
 
 @njit(cache=True, error_model="numpy")
-def count_levels(bodies, broad, vertices, counts):
-    """counts (4,) <- how many pairs of the bodies' state (the engine's Bodies) pass each level.
-    broad: the engine's broad-phase state, which finds the pairs whose bounding circles' boxes
-    overlap; vertices: scratch (V, 2) for the polygons' world vertices."""
+def circle_pairs(bodies, broad):
+    """The pairs (k, 2) of the bodies' state (the engine's Bodies) whose bounding circles' boxes
+    overlap, from the engine's broad-phase state."""
+    b = bodies
+    n = b.positions.shape[0]
+    lo, hi = np.empty((n, 2)), np.empty((n, 2))
+    for i in range(n):
+        reach = b.radii[i] * (1.0 + 2.0 * SLACK)
+        for axis in range(2):
+            lo[i, axis], hi[i, axis] = b.positions[i, axis] - reach, b.positions[i, axis] + reach
+    return candidate_pairs(broad, lo, hi) if n >= 2 else np.empty((0, 2), np.intp)
+
+
+@njit(cache=True, error_model="numpy")
+def count_levels(bodies, pairs, vertices, counts):
+    """counts (4,) <- how many pairs of the bodies' state (the engine's Bodies) pass each level,
+    over pairs (k, 2) that include every pair whose bounding circles overlap (circle_pairs, or
+    any larger set); vertices: scratch (V, 2) for the polygons' world vertices."""
     b = bodies
     n = b.positions.shape[0]
     counts[:] = 0
     if n < 2:
         return
     place_polygons(b.body_vertices, b.vertex_start, b.positions, b.angles, vertices)
-    lo, hi = np.empty((n, 2)), np.empty((n, 2))
-    for i in range(n):
-        reach = b.radii[i] * (1.0 + 2.0 * SLACK)
-        for axis in range(2):
-            lo[i, axis], hi[i, axis] = b.positions[i, axis] - reach, b.positions[i, axis] + reach
-    pairs = candidate_pairs(broad, lo, hi)
     volumes = body_volumes(b.shapes, b.positions, b.angles, b.radii, b.body_vertices, b.vertex_start, vertices,
                            np.empty((n, 10)))
     levels = pair_levels(b.shapes, b.positions, b.radii, vertices, b.vertex_start, volumes, pairs,
