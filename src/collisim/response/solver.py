@@ -41,7 +41,7 @@ POSITION_RATE = 0.2   # the fraction of an overlap (beyond the slop) removed per
 # this share of the largest impulse (or after its `iterations`): the solve has converged, and
 # the next sweeps would change velocities by far less than rounding shows in a frame. Warm
 # started (warmstart.py), a pile at rest converges in one or two sweeps instead of twenty.
-TOLERANCE = 0.0
+TOLERANCE = 1e-9
 
 # The loops below load a row's two bodies into plain numbers (_load), work on those, and store
 # them back once (_store). Read and written through the arrays at every step instead, each write
