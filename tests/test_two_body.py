@@ -41,7 +41,7 @@ def respond(x1, x2, v1, v2, m1, m2, r1=1.0, r2=1.0, e=1.0):
     positions, velocities = np.array([x1, x2], float), np.array([v1, v2], float)
     masses, radii = np.array([m1, m2], float), np.array([r1, r2], float)
     rows, count, b = rows_of(positions, velocities, masses, radii)
-    collide(rows, count, velocities, b.angular_velocities, b.accelerations, masses, b.inertias, e, 0.0, 0.0, DT, 10)
+    collide(rows, count, velocities, b.angular_velocities, b.accelerations, 1 / masses, 1 / b.inertias, e, 0.0, 0.0, DT, 10)
     return velocities, int((rows.hit[:count] > 0).sum()), rows.hit[0], positions
 
 
@@ -51,7 +51,7 @@ def correct(x1, x2, m1, m2):
     masses, radii = np.array([m1, m2], float), np.ones(2)
     rows, count, b = rows_of(positions, velocities, masses, radii)
     push, shift, turn, shift_turn = np.zeros((2, 2)), np.zeros((2, 2)), np.zeros(2), np.zeros(2)
-    args = velocities, b.angular_velocities, b.accelerations, masses, b.inertias
+    args = velocities, b.angular_velocities, b.accelerations, 1 / masses, 1 / b.inertias
     solve_velocities(rows, count, *args, 0.0, DT, 10, push, turn)
     solve_positions(rows, count, *args, DT, 10, push, turn, shift, shift_turn)
     assert not push.any() and not turn.any() and not shift_turn.any()   # no impulse, no turn

@@ -216,6 +216,7 @@ def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, memor
     push, shift, push_turn, shift_turn = np.zeros((n, 2)), np.zeros((n, 2)), np.zeros(n), np.zeros(n)
     vertices, moved = np.empty_like(b.body_vertices), np.empty((_largest_polygon(b.vertex_start), 2))
     scratch = statics_scratch(n, s.segments.shape[0])
+    inverse_masses, inverse_inertias = 1.0 / b.masses, 1.0 / b.inertias   # the solver multiplies
     # each step's contacts are found from the state that ends the step before (so a frame's
     # candidates are those of the state it records); the first, from the state given
     found, rows, count, pairs, t = _contact_phases(b, s, broad, dt, margin, lo, hi, vertices, moved,
@@ -226,7 +227,7 @@ def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, memor
             step_count += 1
             now = step_count * dt
             keep_start(s.map, scratch[2], b.positions)
-            v, w, m, inertia = b.velocities, b.angular_velocities, b.masses, b.inertias
+            v, w, m, inertia = b.velocities, b.angular_velocities, inverse_masses, inverse_inertias
             collide(rows, count, v, w, b.accelerations, m, inertia, s.restitution, s.friction, s.rest_speed, dt,
                     s.iterations)
             recall(rows, count, memory, n, N_WALLS + s.segments.shape[0])
