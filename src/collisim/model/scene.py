@@ -64,8 +64,8 @@ class Scene:
     substeps: int = 1
     broadphase: str = "auto"
     # ccd's contact model (engine/ccd/sleep.py, resolve.py): below rest_speed a body held still
-    # by what it touches falls asleep (None or 0: never — sleeping is experimental, see
-    # sleep.py); a collision within tc seconds of a body's last one is elastic (Luding and
+    # by what it touches falls asleep (None: the speed of a bounce a thousandth of its radius
+    # high under gravity when e < 1, else never; 0: never); a collision within tc seconds of a body's last one is elastic (Luding and
     # McNamara's TC model; 0: off)
     rest_speed: Optional[float] = None
     tc: float = 0.0

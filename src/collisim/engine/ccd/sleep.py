@@ -8,10 +8,11 @@ event-driven granular codes do, a body that is held still is frozen ("asleep"):
 * A body *falls asleep* when it moves slower than the rest speed (Environment.rest_speed,
   settable; by default the speed of a bounce SLEEP_HEIGHT × its radius high) while it is
   *cradled*: gravity is balanced by non-negative pushes from what it touches — the walls and
-  segments it rests on (bodies.py) or touches, and the bodies already asleep, all within
-  SLEEP_GAP × its radius (a ball pressed into a side wall by the ball under it is held). For
-  frictionless
-  disks that means -g lies in the cone of those contact normals: one support straight under
+  segments it rests on (bodies.py), those it touches that gravity does not press it into (a
+  ball pressed into a side wall by the ball under it is held), and the bodies already asleep,
+  all within SLEEP_GAP × its radius. A floor or a slope counts only once the body rests on it:
+  a ball still bouncing on the floor would otherwise freeze up to SLEEP_GAP × r in the air,
+  and its weight would never reach the floor (support.py). For frictionless disks that means -g lies in the cone of those contact normals: one support straight under
   it, or two on either side of the vertical. This is tested right after each collision of a
   slow body and, for every body, at each frame time; a pile thus falls asleep from the
   floor up. Bodies that lean on each other (an arch, a row pressed together) would wait for
@@ -30,17 +31,18 @@ event-driven granular codes do, a body that is held still is frozen ("asleep"):
 Falling asleep removes at most ½ m v_rest² of kinetic energy per body: with the suggested
 rest speed, a bounce of a thousandth of a radius.
 
-Status: OFF BY DEFAULT (rest_speed 0; suggested_rest_speed gives a sensible value). Two faults
-are fixed: a woken body resting on the one hit fell, at its wake, for all the time it had slept
-(it was given gravity before being brought to the present: 8 % of r overlaps in a 24-ball pile),
-and a body leaning on a side wall never counted the wall as a support. With rest_speed 0.099,
-piles of 200 balls (e = 0, 0.5, 0.9) end still with no overlap above 5e-15 r, and the settling
-particles_250 gas (e = 0.8, rest_speed 0.08) costs a third of the discrete method's
-(benchmarks/ccd_settling.py). Not on by default because (1) a sleeper that does not rest on a
-wall or segment itself passes no weight to them: the wall pressure of a sleeping pile counts
-only its bottom layer's weight; (2) piles freeze looser than the discrete method's (up to
-+4.5 % in height at e = 0.5); (3) a few frames still go over the event budget while a pile
-settles (8 of 600 at e = 0).
+Status: ON BY DEFAULT under gravity when e < 1 (default_rest_speed); rest_speed 0 turns it
+off; without gravity or with e = 1 the default is 0, so gases run byte for byte as before.
+Measured (benchmarks/ccd_settling.py): the settling particles_250 gas (e = 0.8, default rest
+speed) costs 1.5x the discrete method per simulated second, memory flat, no frame over the
+budget, overlaps ~1e-14 r. Known limits: (1) a sleeper that does not rest on a wall or segment
+itself passes no weight to them: the wall pressure of a sleeping pile counts only its bottom
+layer's weight; (2) piles freeze looser than hexagonal close packing: +6.6 and +9.2 % in height
+for 200 balls, e = 0, dropped at random (seeds 1 and 2), against +4.7 and +4.8 % for pymunk
+(frictionless, 10 substeps) and +7.4 and +6.9 % for the discrete method on the same drops; the
+bottom row freezes with gaps, because a sleeper pushed aside slower than its rest speed stays a
+fixed obstacle (waking a sleeper on every push its supports cannot take was tried: it makes
+event storms, 10 million events in 8 s, and was not kept).
 """
 import math
 
@@ -64,13 +66,10 @@ UPRIGHT = 1e-9
 
 
 def default_rest_speed(gravity, radii, restitution):
-    """(n,) the rest speed of each body when sleeping is asked for (rest_speed=-1, see
-    suggested_rest_speed) — by default 0: sleeping is off (module docstring, last paragraph)."""
-    return 0.0 * radii
-
-
-def suggested_rest_speed(gravity, radii, restitution):
-    """(n,) sqrt(2 |g| SLEEP_HEIGHT r): a bounce a thousandth of a radius high; 0 if e = 1."""
+    """(n,) the rest speed of each body when the scene does not state one: sqrt(2 |g|
+    SLEEP_HEIGHT r), the speed of a bounce a thousandth of its radius high — 0 (never sleep)
+    without gravity or when e = 1, so elastic gases and gravity-free scenes run exactly as
+    without sleeping."""
     if restitution >= 1.0:
         return 0.0 * radii
     return (2.0 * math.hypot(gravity[0], gravity[1]) * SLEEP_HEIGHT * radii) ** 0.5
@@ -102,15 +101,16 @@ def cradled(bodies, grid, env, i, t):
     gap = SLEEP_GAP * r
     for wall in range(N_WALLS):   # a wall it touches pushes it along the wall's normal
         axis, bound, inward = wall_geometry(env.box, wall, r)
-        if rests_on(bodies, i, wall) or abs((x, y)[axis] - bound) <= gap:
-            right, left = _widen(ux, uy, inward if axis == 0 else 0.0, inward if axis == 1 else 0.0, right, left)
+        nx, ny = (inward, 0.0) if axis == 0 else (0.0, inward)
+        if rests_on(bodies, i, wall) or (abs((x, y)[axis] - bound) <= gap and nx * ux + ny * uy <= 0.0):
+            right, left = _widen(ux, uy, nx, ny, right, left)
     c = grid.cell[i]
     apart = is_apart(grid, i)
     first, last = (0, env.segments.shape[0]) if apart else (grid.segment_start[c], grid.segment_start[c + 1])
     for k in range(first, last):
         segment = k if apart else grid.segment_index[k]
         nx, ny, distance = segment_contact(x, y, env.segments[segment])[:3]
-        if rests_on(bodies, i, N_WALLS + segment) or distance - r <= gap:
+        if rests_on(bodies, i, N_WALLS + segment) or (distance - r <= gap and nx * ux + ny * uy <= 0.0):
             right, left = _widen(ux, uy, nx, ny, right, left)
     cx_lo, cx_hi, cy_lo, cy_hi = reach_block(grid, c, grid.reach[i])
     for cy in range(cy_lo, cy_hi):
