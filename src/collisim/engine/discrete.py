@@ -227,7 +227,7 @@ def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, memor
             step_count += 1
             now = step_count * dt
             keep_start(s.map, scratch[2], b.positions)
-            v, w, m, inertia = b.velocities, b.angular_velocities, inverse_masses, inverse_inertias
+            v, w, m, inertia = b.velocities, b.angular_velocities, inverse_masses, inverse_inertias   # 1/m, 1/I
             collide(rows, count, v, w, b.accelerations, m, inertia, s.restitution, s.friction, s.rest_speed, dt,
                     s.iterations)
             recall(rows, count, memory, n, N_WALLS + s.segments.shape[0])

@@ -161,7 +161,8 @@ def record_levels(volumes, bodies, pairs, vertices, counts):
     worlds with polygons (compiled code only). volumes is None for a world of circles, which is
     not counted and does not compile the counting (counts stay NOT_COUNTED): every level of a
     pair of circles is its bounding circle's, so the funnel would only repeat the touching
-    pairs, at the cost of a broad-phase query a frame (benchmarks/hierarchy.py)."""
+    pairs, at the cost of a pass over the step's candidates a frame (benchmarks/hierarchy.py).
+    pairs: the step's candidate pairs, which include every pair count_levels needs."""
     raise NotImplementedError("record_levels is called from compiled code")
 
 

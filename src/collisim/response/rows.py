@@ -92,8 +92,9 @@ def _record(found, k, i, j, wall, reach, slop, m):
     record = found[k]
     record[F_I], record[F_J], record[F_WALL], record[F_REACH], record[F_SLOP] = i, j, wall, reach, slop
     nx, ny, count, d0, px0, py0, d1, px1, py1 = m
-    record[5], record[6], record[7], record[8], record[9] = nx, ny, count, d0, px0
-    record[10], record[11], record[12], record[13] = py0, d1, px1, py1
+    manifold = record[F_MANIFOLD:]
+    manifold[0], manifold[1], manifold[2], manifold[3], manifold[4] = nx, ny, count, d0, px0
+    manifold[5], manifold[6], manifold[7], manifold[8] = py0, d1, px1, py1
     return k + 1
 
 

@@ -69,7 +69,7 @@ def _store(lin, ang, i, j, v):
 
 
 @njit(cache=True, inline="always")
-def _inertia(inverse_masses, inverse_inertias, i, j):
+def _inverses(inverse_masses, inverse_inertias, i, j):
     """(1/m_i, 1/I_i, 1/m_j, 1/I_j); a wall's are never used. Multiplying by an inverse is cheaper
     than dividing: a sweep would otherwise wait on a dozen divisions a row."""
     if j >= 0:
@@ -91,7 +91,7 @@ def relative(v, j, dx, dy, lever_i, lever_j):
 @njit(cache=True, inline="always")
 def kicked(v, m, j, nx, ny, l0, l1, l2, l3, normal_impulse, tangent_impulse):
     """The pair's vectors v (_load) changed by impulses along a row's normal (nx, ny) and tangent
-    (-ny, nx), at its point (levers l0..l3 as Rows.lever): i pushed back, j on. m: _inertia."""
+    (-ny, nx), at its point (levers l0..l3 as Rows.lever): i pushed back, j on. m: _inverses."""
     px, py = normal_impulse * nx - tangent_impulse * ny, normal_impulse * ny + tangent_impulse * nx
     vix, viy = v[0] - px * m[0], v[1] - py * m[0]
     wi = v[2] - (normal_impulse * l0 + tangent_impulse * l1) * m[1]
@@ -126,7 +126,7 @@ def _meets(v, accelerations, i, j, nx, ny, lever_i, lever_j, gap, dt, rest_speed
 @njit(cache=True, inline="always")
 def _coupling(m, j, lever_r_i, lever_s_i, lever_r_j, lever_s_j):
     """The normal velocity change at one point of a manifold per unit normal impulse at another
-    (or the same) point, from their normal levers about each centre. m: _inertia."""
+    (or the same) point, from their normal levers about each centre. m: _inverses."""
     k = m[0] + lever_r_i * lever_s_i * m[1]
     if j >= 0:
         k += m[2] + lever_r_j * lever_s_j * m[3]
@@ -181,7 +181,8 @@ def _together(k11, k22, k12, u1, u2, restitution):
 
 
 @njit(cache=True)
-def collide(rows, count, lin, ang, accelerations, inverse_masses, inverse_inertias, restitution, friction, rest_speed, dt, passes):
+def collide(rows, count, lin, ang, accelerations, inverse_masses, inverse_inertias, restitution, friction, rest_speed,
+            dt, passes):
     """Impacts, on the velocities at the start of the step (lin (n, 2), ang (n,)) in place: see the
     module. Normal impulses add into rows.hit."""
     I, J, N, L, gap, hit = rows.i, rows.j, rows.normal, rows.lever, rows.gap, rows.hit
@@ -193,7 +194,7 @@ def collide(rows, count, lin, ang, accelerations, inverse_masses, inverse_inerti
         r = 0
         while r < count:
             i, j, nx, ny = I[r], J[r], N[r, 0], N[r, 1]
-            v, m = _load(lin, ang, i, j), _inertia(inverse_masses, inverse_inertias, i, j)
+            v, m = _load(lin, ang, i, j), _inverses(inverse_masses, inverse_inertias, i, j)
             closing = _meets(v, accelerations, i, j, nx, ny, L[r, 0], L[r, 2], gap[r], dt, rest_speed)
             if partner[r] == r + 1:
                 s = r + 1
@@ -267,7 +268,8 @@ def solve_velocities(rows, count, lin, ang, accelerations, inverse_masses, inver
     for r in range(count):
         if impulses[r] != 0.0 or frictions[r] != 0.0:
             i, j = I[r], J[r]
-            v = kicked(_load(push_lin, push_ang, i, j), _inertia(inverse_masses, inverse_inertias, i, j), j, N[r, 0], N[r, 1],
+            m = _inverses(inverse_masses, inverse_inertias, i, j)
+            v = kicked(_load(push_lin, push_ang, i, j), m, j, N[r, 0], N[r, 1],
                        L[r, 0], L[r, 1], L[r, 2], L[r, 3], 0.5 * impulses[r], 0.5 * frictions[r])
             _store(push_lin, push_ang, i, j, v)
     scale = _largest(impulses, count)
@@ -281,7 +283,8 @@ def solve_velocities(rows, count, lin, ang, accelerations, inverse_masses, inver
                 limit = friction * impulses[r]
                 spread = min(max(frictions[r] - 2.0 * mass_t[r] * sliding, -limit), limit)
                 if spread != frictions[r]:
-                    v = kicked(v, _inertia(inverse_masses, inverse_inertias, i, j), j, nx, ny, L[r, 0], L[r, 1], L[r, 2], L[r, 3],
+                    m = _inverses(inverse_masses, inverse_inertias, i, j)
+                    v = kicked(v, m, j, nx, ny, L[r, 0], L[r, 1], L[r, 2], L[r, 3],
                                0.0, 0.5 * (spread - frictions[r]))
                     _store(push_lin, push_ang, i, j, v)
                     change = max(change, abs(spread - frictions[r]))
@@ -289,7 +292,7 @@ def solve_velocities(rows, count, lin, ang, accelerations, inverse_masses, inver
         r = 0
         while r < count:
             i, j, nx, ny = I[r], J[r], N[r, 0], N[r, 1]
-            v, m = _load(push_lin, push_ang, i, j), _inertia(inverse_masses, inverse_inertias, i, j)
+            v, m = _load(push_lin, push_ang, i, j), _inverses(inverse_masses, inverse_inertias, i, j)
             closing = base[r] + relative(v, j, nx, ny, L[r, 0], L[r, 2])
             target = -max(gap[r], 0.0) / dt
             if partner[r] == r + 1:
@@ -320,7 +323,8 @@ def solve_velocities(rows, count, lin, ang, accelerations, inverse_masses, inver
 
 
 @njit(cache=True)
-def solve_positions(rows, count, lin, ang, accelerations, inverse_masses, inverse_inertias, dt, iterations, push_lin, push_ang,
+def solve_positions(rows, count, lin, ang, accelerations, inverse_masses, inverse_inertias, dt, iterations, push_lin,
+                    push_ang,
                     shift_lin, shift_ang):
     """Step 3: pseudo-velocities shift_lin (n, 2), shift_ang (n,) (zeroed here) that take overlaps
     beyond the slop out at POSITION_RATE a step, given the solved mean velocities."""
@@ -349,7 +353,8 @@ def solve_positions(rows, count, lin, ang, accelerations, inverse_masses, invers
             closing = solved[k] + relative(v, j, nx, ny, L[r, 0], L[r, 2])
             total = max(pseudo[r] + mass[r] * (POSITION_RATE * (-gap[r] - slop[r]) / dt - closing), 0.0)
             if total != pseudo[r]:
-                v = kicked(v, _inertia(inverse_masses, inverse_inertias, i, j), j, nx, ny, L[r, 0], L[r, 1], L[r, 2], L[r, 3],
+                m = _inverses(inverse_masses, inverse_inertias, i, j)
+                v = kicked(v, m, j, nx, ny, L[r, 0], L[r, 1], L[r, 2], L[r, 3],
                            total - pseudo[r], 0.0)
                 _store(shift_lin, shift_ang, i, j, v)
                 change, scale = max(change, abs(total - pseudo[r])), max(scale, total)
@@ -374,7 +379,7 @@ def come_to_rest(rows, count, lin, ang, inverse_masses, inverse_inertias, fricti
         change = 0.0
         for r in pressed:
             i, j, nx, ny = I[r], J[r], N[r, 0], N[r, 1]
-            v, m = _load(lin, ang, i, j), _inertia(inverse_masses, inverse_inertias, i, j)
+            v, m = _load(lin, ang, i, j), _inverses(inverse_masses, inverse_inertias, i, j)
             total = max(impulses[r] - mass[r] * relative(v, j, nx, ny, L[r, 0], L[r, 2]), 0.0)
             if total != impulses[r]:
                 v = kicked(v, m, j, nx, ny, L[r, 0], L[r, 1], L[r, 2], L[r, 3], total - impulses[r], 0.0)

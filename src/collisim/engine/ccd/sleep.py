@@ -12,11 +12,12 @@ event-driven granular codes do, a body that is held still is frozen ("asleep"):
   ball pressed into a side wall by the ball under it is held), and the bodies already asleep,
   all within SLEEP_GAP × its radius. A floor or a slope counts only once the body rests on it:
   a ball still bouncing on the floor would otherwise freeze up to SLEEP_GAP × r in the air,
-  and its weight would never reach the floor (support.py). For frictionless disks that means -g lies in the cone of those contact normals: one support straight under
-  it, or two on either side of the vertical. This is tested right after each collision of a
-  slow body and, for every body, at each frame time; a pile thus falls asleep from the
-  floor up. Bodies that lean on each other (an arch, a row pressed together) would wait for
-  one another's sleep for ever, so at frame times a body that touches another one and has
+  and its weight would never reach the floor (support.py). For frictionless disks that
+  means -g lies in the cone of those contact normals: one support straight under it, or two
+  on either side of the vertical. This is tested right after each collision of a slow body and,
+  for every body, at each frame time; a pile thus falls asleep from the floor up.
+  Bodies that lean on each other (an arch, a row pressed together) would wait for one
+  another's sleep for ever, so at frame times a body that touches another one and has
   been slow at every frame time for SLOW_SPEEDS × rest speed / |g| falls asleep too:
   unsupported, gravity would have changed its speed by more than that meanwhile. A cradled
   body hit twice at the same instant is jammed (wedged into a narrow cradle it cannot get out
