@@ -33,7 +33,7 @@ from ..broadphase.step import AUTO, candidate_pairs, choose, step_state
 from ..geometry.box import centre_range
 from ..geometry.polygon import place_polygons
 from ..model.kinds import CIRCLE, N_WALLS, PAIR, SEGMENT, SUPPORT, WALL
-from ..narrowphase.hierarchy import NOT_COUNTED, record_levels
+from ..narrowphase.hierarchy import NOT_COUNTED, level_scratch, record_levels
 from ..response.rows import (margins, near_segments, new_found, new_rows, pair_manifolds, rows_from,
                              segment_manifolds, wall_manifolds)
 from ..response.solver import collide, come_to_rest, solve_positions, solve_velocities
@@ -217,6 +217,7 @@ def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, memor
     vertices, moved = np.empty_like(b.body_vertices), np.empty((_largest_polygon(b.vertex_start), 2))
     scratch = statics_scratch(n, s.segments.shape[0])
     inverse_masses, inverse_inertias = 1.0 / b.masses, 1.0 / b.inertias   # the solver multiplies
+    levels = level_scratch(s.volumes, b)
     # each step's contacts are found from the state that ends the step before (so a frame's
     # candidates are those of the state it records); the first, from the state given
     found, rows, count, pairs, t = _contact_phases(b, s, broad, dt, margin, lo, hi, vertices, moved,
@@ -252,7 +253,7 @@ def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, memor
             found, rows, count, pairs, t = _contact_phases(b, s, broad, dt, margin, lo, hi, vertices, moved,
                                                                 found, rows, phase_cycles, t)
         out.candidates[frame] = pairs.shape[0]
-        record_levels(s.volumes, b, pairs, vertices, out.hierarchy[frame])
+        record_levels(levels, b, pairs, vertices, out.hierarchy[frame])
         out.positions[frame] = b.positions
         out.velocities[frame] = b.velocities
         if out.angles.shape[1] == n:  # bodies that turn (see new_frames)

@@ -46,9 +46,23 @@ XMIN, YMIN, XMAX, YMAX, CX, CY, UX, UY, HALF_W, HALF_H = range(10)
 
 
 @njit(cache=True, error_model="numpy")
-def body_volumes(shapes, positions, angles, radii, body_vertices, vertex_start, vertices, volumes):
+def frame_boxes(shapes, body_vertices, vertex_start):
+    """Each polygon's oriented box in its body frame (n, 5): centre x, y, half extents, the angle
+    of its half-width axis (geometry/polygon.py: oriented_box; zeros for circles). A body's box
+    turns with it, so this is found once and only placed at each state (body_volumes)."""
+    boxes = np.zeros((shapes.shape[0], 5))
+    for i in range(shapes.shape[0]):
+        if shapes[i] != CIRCLE:
+            boxes[i, 0], boxes[i, 1], boxes[i, 2], boxes[i, 3], boxes[i, 4] = oriented_box(
+                body_vertices[vertex_start[i]:vertex_start[i + 1]])
+    return boxes
+
+
+@njit(cache=True, error_model="numpy")
+def body_volumes(shapes, positions, angles, radii, boxes, vertex_start, vertices, volumes):
     """Each body's box and oriented box in the world, into volumes (n, 10) (columns above).
-    vertices (V, 2): the polygons' world vertices at these poses (place_polygons)."""
+    boxes (n, 5): frame_boxes; vertices (V, 2): the polygons' world vertices at these poses
+    (place_polygons)."""
     for i in range(positions.shape[0]):
         x, y, r = positions[i, 0], positions[i, 1], radii[i]
         grow = SLACK * r
@@ -60,7 +74,7 @@ def body_volumes(shapes, positions, angles, radii, body_vertices, vertex_start, 
             s, e = vertex_start[i], vertex_start[i + 1]
             xmin, ymin, xmax, ymax = polygon_bounds(vertices[s:e])
             volumes[i, XMIN], volumes[i, YMIN], volumes[i, XMAX], volumes[i, YMAX] = xmin, ymin, xmax, ymax
-            cx, cy, half_w, half_h, turn = oriented_box(body_vertices[s:e])
+            cx, cy, half_w, half_h, turn = boxes[i, 0], boxes[i, 1], boxes[i, 2], boxes[i, 3], boxes[i, 4]
             c, sn = math.cos(angles[i]), math.sin(angles[i])
             volumes[i, CX], volumes[i, CY] = x + c * cx - sn * cy, y + sn * cx + c * cy
             volumes[i, UX], volumes[i, UY] = math.cos(angles[i] + turn), math.sin(angles[i] + turn)
@@ -156,23 +170,40 @@ def each_level(shapes, positions, radii, vertices, start, volumes, pairs, out):
     return out
 
 
-def record_levels(volumes, bodies, pairs, vertices, counts):
+def level_scratch(volumes, bodies):
+    """What record_levels needs for a block of frames: the bodies' frame_boxes and room for their
+    volumes (n, 10); None for a world of circles (volumes None), which is not counted."""
+    raise NotImplementedError("level_scratch is called from compiled code")
+
+
+@overload(level_scratch)
+def _level_scratch(volumes, bodies):
+    if isinstance(volumes, types.NoneType):
+        return lambda volumes, bodies: None
+    return lambda volumes, bodies: (frame_boxes(bodies.shapes, bodies.body_vertices, bodies.vertex_start),
+                                    np.empty((bodies.positions.shape[0], 10)))
+
+
+def record_levels(scratch, bodies, pairs, vertices, counts):
     """counts (4,) <- how many pairs of the bodies' state pass each level (count_levels), for
-    worlds with polygons (compiled code only). volumes is None for a world of circles, which is
-    not counted and does not compile the counting (counts stay NOT_COUNTED): every level of a
-    pair of circles is its bounding circle's, so the funnel would only repeat the touching
-    pairs, at the cost of a pass over the step's candidates a frame (benchmarks/hierarchy.py).
-    pairs: the step's candidate pairs, which include every pair count_levels needs."""
+    worlds with polygons (compiled code only). scratch is level_scratch's: None for a world of
+    circles, which is not counted and does not compile the counting (counts stay NOT_COUNTED):
+    every level of a pair of circles is its bounding circle's, so the funnel would only repeat
+    the touching pairs, at the cost of a pass over the step's candidates a frame
+    (benchmarks/hierarchy.py). pairs: the step's candidate pairs, which include every pair
+    count_levels needs; vertices: the polygons' world vertices at this state (placed by the
+    narrow phase)."""
     raise NotImplementedError("record_levels is called from compiled code")
 
 
 @overload(record_levels)
-def _record_levels(volumes, bodies, pairs, vertices, counts):
-    if isinstance(volumes, types.NoneType):
-        return lambda volumes, bodies, pairs, vertices, counts: None
+def _record_levels(scratch, bodies, pairs, vertices, counts):
+    if isinstance(scratch, types.NoneType):
+        return lambda scratch, bodies, pairs, vertices, counts: None
 
-    def record(volumes, bodies, pairs, vertices, counts):
-        count_levels(bodies, pairs, vertices, counts)
+    def record(scratch, bodies, pairs, vertices, counts):
+        boxes, volumes = scratch
+        count_placed(bodies, pairs, vertices, boxes, volumes, counts)
     return record
 
 
@@ -196,18 +227,26 @@ def count_levels(bodies, pairs, vertices, counts):
     over pairs (k, 2) that include every pair whose bounding circles overlap (circle_pairs, or
     any larger set); vertices: scratch (V, 2) for the polygons' world vertices."""
     b = bodies
-    n = b.positions.shape[0]
-    counts[:] = 0
-    if n < 2:
-        return
     place_polygons(b.body_vertices, b.vertex_start, b.positions, b.angles, vertices)
-    volumes = body_volumes(b.shapes, b.positions, b.angles, b.radii, b.body_vertices, b.vertex_start, vertices,
-                           np.empty((n, 10)))
-    levels = pair_levels(b.shapes, b.positions, b.radii, vertices, b.vertex_start, volumes, pairs,
-                         np.empty(pairs.shape[0], np.int64))
-    for p in range(levels.shape[0]):
-        for level in range(levels[p]):
+    count_placed(b, pairs, vertices, frame_boxes(b.shapes, b.body_vertices, b.vertex_start),
+                 np.empty((b.positions.shape[0], 10)), counts)
+
+
+@njit(cache=True, error_model="numpy")
+def count_placed(bodies, pairs, vertices, boxes, volumes, counts):
+    """count_levels, given the polygons' world vertices (V, 2) at this state, their frame_boxes
+    (n, 5), and room for their volumes (n, 10)."""
+    b = bodies
+    counts[:] = 0
+    if b.positions.shape[0] < 2:
+        return
+    body_volumes(b.shapes, b.positions, b.angles, b.radii, boxes, b.vertex_start, vertices, volumes)
+    for p in range(pairs.shape[0]):
+        i, j = pairs[p, 0], pairs[p, 1]
+        level = 0
+        while level < 4 and passes(level, b.shapes, b.positions, b.radii, vertices, b.vertex_start, volumes, i, j):
             counts[level] += 1
+            level += 1
 
 
 # --- for users, tests and overlays --------------------------------------------------------------
@@ -218,8 +257,9 @@ def volumes_of(world, positions=None, angles=None) -> tuple:
     positions = world.positions if positions is None else np.ascontiguousarray(positions, np.float64)
     angles = world.angles if angles is None else np.ascontiguousarray(angles, np.float64)
     vertices = world.placed_vertices(positions, angles)
-    volumes = body_volumes(world.shapes, positions, angles, world.radii, world.body_vertices, world.vertex_start,
-                           vertices, np.empty((world.n, 10)))
+    boxes = frame_boxes(world.shapes, world.body_vertices, world.vertex_start)
+    volumes = body_volumes(world.shapes, positions, angles, world.radii, boxes, world.vertex_start, vertices,
+                           np.empty((world.n, 10)))
     return vertices, volumes
 
 
