@@ -241,7 +241,7 @@ def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, memor
             if count > 0:
                 add_contact_motion(b, push, push_turn, shift, shift_turn, dt)
             t = _lap(phase_cycles, INTEGRATE, t)
-            come_to_rest(rows, count, v, w, m, inertia, s.friction, s.iterations)
+            come_to_rest(rows, count, v, w, m, inertia, s.friction)
             log = _log_contacts(rows, count, log, now, frame_collisions)
             memory = remember(rows, count, n, N_WALLS + s.segments.shape[0])
             _mark_held(rows, count, scratch[3])

@@ -33,6 +33,7 @@ from numba import njit
 
 from ..geometry.box import wall_geometry
 from ..geometry.segment import closest_on_segment
+from ..geometry.vector import length
 
 # A face of b is only preferred over a's face when it is this much (relative to the shorter of
 # the two faces) less deep: near ties then keep the same reference face from step to step,
@@ -68,7 +69,7 @@ def _max_separation(a, b):
             d = _behind(b[m, 0], b[m, 1], a[i, 0], a[i, 1], ex, ey)
             if d > most:
                 most, index = d, m
-        separation = -most / math.hypot(ex, ey)
+        separation = -most / length(ex, ey)
         if separation > best:
             best, edge, deepest = separation, i, index
     return best, edge, deepest
@@ -140,7 +141,7 @@ def _facing(p, i, nx, ny):
     """The cosine between edge i's outward normal and (nx, ny)."""
     j = _next(i, p.shape[0])
     ex, ey = p[j, 0] - p[i, 0], p[j, 1] - p[i, 1]
-    return (ey * nx - ex * ny) / math.hypot(ex, ey)
+    return (ey * nx - ex * ny) / length(ex, ey)
 
 
 @njit(cache=True, error_model="numpy")
@@ -167,15 +168,15 @@ def _clip_to_face(ref, face, inc, edge):
     r0, r1 = face, _next(face, ref.shape[0])
     ox, oy = ref[r0, 0], ref[r0, 1]
     ex, ey = ref[r1, 0] - ox, ref[r1, 1] - oy
-    length = math.hypot(ex, ey)
-    tx, ty = ex / length, ey / length
+    size = length(ex, ey)
+    tx, ty = ex / size, ey / size
     i, j = edge, _next(edge, inc.shape[0])
     px, py, qx, qy = inc[i, 0], inc[i, 1], inc[j, 0], inc[j, 1]
     kept, px, py, qx, qy = _clip_behind(px, py, qx, qy, tx, ty, ref[r1, 0], ref[r1, 1])
     if kept:
         kept, px, py, qx, qy = _clip_behind(px, py, qx, qy, -tx, -ty, ox, oy)
-    depth_p = _behind(px, py, ox, oy, ex, ey) / length
-    depth_q = _behind(qx, qy, ox, oy, ex, ey) / length
+    depth_p = _behind(px, py, ox, oy, ex, ey) / size
+    depth_q = _behind(qx, qy, ox, oy, ex, ey) / size
     return kept, px, py, depth_p, qx, qy, depth_q
 
 
@@ -208,8 +209,8 @@ def polygon_polygon(a, b):
     ref, face, inc, deepest = (b, face_b, a, deepest_a) if flip else (a, face_a, b, deepest_b)
     r1 = _next(face, ref.shape[0])
     ex, ey = ref[r1, 0] - ref[face, 0], ref[r1, 1] - ref[face, 1]
-    length = math.hypot(ex, ey)
-    nx, ny = ey / length, -ex / length              # the reference face's outward normal
+    size = length(ex, ey)
+    nx, ny = ey / size, -ex / size              # the reference face's outward normal
     edge = _incident_edge(inc, deepest, nx, ny)
     kept, px, py, depth_p, qx, qy, depth_q = _clip_to_face(ref, face, inc, edge)
     if not kept or max(depth_p, depth_q) < 0.0:
@@ -228,7 +229,7 @@ def polygon_polygon(a, b):
 @njit(cache=True, error_model="numpy")
 def _edge_length(p, i):
     j = _next(i, p.shape[0])
-    return math.hypot(p[j, 0] - p[i, 0], p[j, 1] - p[i, 1])
+    return length(p[j, 0] - p[i, 0], p[j, 1] - p[i, 1])
 
 
 @njit(cache=True, error_model="numpy")
@@ -242,16 +243,16 @@ def _nearest_feature(a, cx, cy):
     for i in range(k):
         j = _next(i, k)
         ex, ey = a[j, 0] - a[i, 0], a[j, 1] - a[i, 1]
-        separation = -_behind(cx, cy, a[i, 0], a[i, 1], ex, ey) / math.hypot(ex, ey)
+        separation = -_behind(cx, cy, a[i, 0], a[i, 1], ex, ey) / length(ex, ey)
         if separation > best:
             best, face = separation, i
     j = _next(face, k)
     ex, ey = a[j, 0] - a[face, 0], a[j, 1] - a[face, 1]
-    length = math.hypot(ex, ey)
-    nx, ny = ey / length, -ex / length
+    size = length(ex, ey)
+    nx, ny = ey / size, -ex / size
     qx, qy, u = closest_on_segment(cx, cy, a[face, 0], a[face, 1], a[j, 0], a[j, 1])
     if best > 0.0 and (u == 0.0 or u == 1.0):      # outside, beyond an end: a vertex region
-        distance = math.hypot(cx - qx, cy - qy)
+        distance = length(cx - qx, cy - qy)
         return distance, (cx - qx) / distance, (cy - qy) / distance
     return best, nx, ny
 

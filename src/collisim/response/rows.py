@@ -32,6 +32,7 @@ from numba import njit
 
 from ..geometry.box import wall_geometry
 from ..geometry.toi import time_to_pair
+from ..geometry.vector import length
 from ..model.kinds import CIRCLE, N_WALLS
 from ..narrowphase.manifold import pair_manifold, polygon_segment_manifold, polygon_wall_manifold
 
@@ -67,8 +68,8 @@ def margins(velocities, angular_velocities, accelerations, radii, dt, out):
     capped at its radius (a faster body may still tunnel: that is the discrete method's known
     limit), and at least MARGIN of its radius."""
     for i in range(radii.shape[0]):
-        speed = np.hypot(velocities[i, 0], velocities[i, 1]) + abs(angular_velocities[i]) * radii[i]
-        pull = np.hypot(accelerations[i, 0], accelerations[i, 1])
+        speed = length(velocities[i, 0], velocities[i, 1]) + abs(angular_velocities[i]) * radii[i]
+        pull = length(accelerations[i, 0], accelerations[i, 1])
         out[i] = max(min(speed * dt + pull * dt * dt, radii[i]), MARGIN * radii[i])
 
 
