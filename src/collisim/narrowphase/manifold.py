@@ -59,7 +59,7 @@ def _polygon_circle(a, cx, cy, r, margin):
 
 @njit(cache=True)
 def _polygons(a, b, margin, moved):
-    m = polygon_polygon(a, b)
+    m = polygon_polygon(a, b, margin)     # farther apart than the margin along an axis: no contact
     if m[2] > 0:
         return m
     gap = -m[3]
