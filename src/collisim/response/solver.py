@@ -35,13 +35,16 @@ Bodies' inertia comes as inverse_masses (n,) and inverse_inertias (n,): 1/m and 
 import numpy as np
 from numba import njit
 
+from .contact_row import (block, couplings, friction_kick, inverses, kicked, load, meets, relative, store,
+                          together)
 from .impulse import newton_impulse
 
 POSITION_RATE = 0.2   # the fraction of an overlap (beyond the slop) removed per step
 # A pass's sweeps end when the largest change a sweep makes to any accumulated impulse is at most
 # this share of the largest impulse (or after its `iterations`): the solve has converged, and
 # the next sweeps would change velocities by far less than rounding shows in a frame. Warm
-# started (warmstart.py), a pile at rest converges in one or two sweeps instead of twenty.
+# started (warmstart.py), a frictionless pile at rest converges in one or two sweeps instead of
+# twenty; with friction the changes level off near 6e-9 of the largest and every sweep runs.
 TOLERANCE = 1e-9
 # The rest pass runs at most this many sweeps. It only ever takes kinetic energy out, and what a
 # short pass leaves (a pressed contact still parting at a fraction of the rest speed) the next
@@ -49,142 +52,6 @@ TOLERANCE = 1e-9
 # as the whole velocity solve. Measured on the polygons scene's pile, four sweeps and twenty
 # hold the same stacks and piles (tests/test_solver.py, test_polygon_engine.py).
 REST_SWEEPS = 4
-
-# The loops below load a row's two bodies into plain numbers (_load), work on those, and store
-# them back once (_store). Read and written through the arrays at every step instead, each write
-# obliges the compiled code to read everything again (it cannot know that the arrays do not
-# overlap): twice the time. A call handed the Rows tuple itself (16 arrays) would cost about half
-# a microsecond whatever it does.
-
-
-@njit(cache=True, inline="always")
-def _load(lin, ang, i, j):
-    """Bodies i's and j's velocity and turning rate from per-body vectors, as one tuple
-    (v_ix, v_iy, ω_i, v_jx, v_jy, ω_j); zeros for j < 0, a wall, which does not move."""
-    if j >= 0:
-        return lin[i, 0], lin[i, 1], ang[i], lin[j, 0], lin[j, 1], ang[j]
-    return lin[i, 0], lin[i, 1], ang[i], 0.0, 0.0, 0.0
-
-
-@njit(cache=True, inline="always")
-def _store(lin, ang, i, j, v):
-    """Write back what _load read."""
-    lin[i, 0], lin[i, 1], ang[i] = v[0], v[1], v[2]
-    if j >= 0:
-        lin[j, 0], lin[j, 1], ang[j] = v[3], v[4], v[5]
-
-
-@njit(cache=True, inline="always")
-def _inverses(inverse_masses, inverse_inertias, i, j):
-    """(1/m_i, 1/I_i, 1/m_j, 1/I_j); a wall's are never used. Multiplying by an inverse is cheaper
-    than dividing: a sweep would otherwise wait on a dozen divisions a row."""
-    if j >= 0:
-        return inverse_masses[i], inverse_inertias[i], inverse_masses[j], inverse_inertias[j]
-    return inverse_masses[i], inverse_inertias[i], 0.0, 0.0
-
-
-@njit(cache=True, inline="always")
-def relative(v, j, dx, dy, lever_i, lever_j):
-    """(v_j - v_i) along (dx, dy) at a contact point of bodies i and j (j < 0: a wall), for the
-    pair's loaded vectors v (_load). A point at arm a moves at v + ω × a, whose part along d is
-    v·d + ω·(a × d): the point's lever about each centre (lever_i, lever_j)."""
-    rel = -(v[0] * dx + v[1] * dy + v[2] * lever_i)
-    if j >= 0:
-        rel += v[3] * dx + v[4] * dy + v[5] * lever_j
-    return rel
-
-
-@njit(cache=True, inline="always")
-def kicked(v, m, j, nx, ny, l0, l1, l2, l3, normal_impulse, tangent_impulse):
-    """The pair's vectors v (_load) changed by impulses along a row's normal (nx, ny) and tangent
-    (-ny, nx), at its point (levers l0..l3 as Rows.lever): i pushed back, j on. m: _inverses."""
-    px, py = normal_impulse * nx - tangent_impulse * ny, normal_impulse * ny + tangent_impulse * nx
-    vix, viy = v[0] - px * m[0], v[1] - py * m[0]
-    wi = v[2] - (normal_impulse * l0 + tangent_impulse * l1) * m[1]
-    if j < 0:
-        return vix, viy, wi, v[3], v[4], v[5]
-    return vix, viy, wi, v[3] + px * m[2], v[4] + py * m[2], v[5] + (normal_impulse * l2 + tangent_impulse * l3) * m[3]
-
-
-@njit(cache=True, inline="always")
-def _friction(v, m, j, nx, ny, l0, l1, l2, l3, mass_t, limit, accumulated):
-    """Coulomb friction at a row on the pair's vectors v: the tangential impulse that stops its
-    sliding, with the row's accumulated friction impulse kept within ±limit. Returns (v, the new
-    accumulated impulse); the impulse applied is its change."""
-    sliding = relative(v, j, -ny, nx, l1, l3)
-    total = min(max(accumulated - mass_t * sliding, -limit), limit)
-    return kicked(v, m, j, nx, ny, l0, l1, l2, l3, 0.0, total - accumulated), total
-
-
-@njit(cache=True, inline="always")
-def _meets(v, accelerations, i, j, nx, ny, lever_i, lever_j, gap, dt, rest_speed):
-    """A row's closing speed if it meets within the step faster than the rest speed, else 0."""
-    closing = relative(v, j, nx, ny, lever_i, lever_j)
-    if closing >= -rest_speed:
-        return 0.0
-    pull = (accelerations[j, 0] * nx + accelerations[j, 1] * ny) if j >= 0 else 0.0
-    pull -= accelerations[i, 0] * nx + accelerations[i, 1] * ny
-    if gap > -(closing + 0.5 * dt * pull) * dt:
-        return 0.0   # still apart at the end of the step
-    return closing
-
-
-@njit(cache=True, inline="always")
-def _coupling(m, j, lever_r_i, lever_s_i, lever_r_j, lever_s_j):
-    """The normal velocity change at one point of a manifold per unit normal impulse at another
-    (or the same) point, from their normal levers about each centre. m: _inverses."""
-    k = m[0] + lever_r_i * lever_s_i * m[1]
-    if j >= 0:
-        k += m[2] + lever_r_j * lever_s_j * m[3]
-    return k
-
-
-@njit(cache=True, inline="always")
-def _couplings(m, j, lr0, lr2, ls0, ls2):
-    """k11, k22, k12 of the two points r and s of a manifold (same bodies and normal), from their
-    normal levers (lr0, lr2) and (ls0, ls2)."""
-    k11 = _coupling(m, j, lr0, lr0, lr2, lr2)
-    k22 = _coupling(m, j, ls0, ls0, ls2, ls2)
-    k12 = _coupling(m, j, lr0, ls0, lr2, ls2)
-    return k11, k22, k12
-
-
-@njit(cache=True, inline="always")
-def _block(k11, k22, k12, b1, b2):
-    """The two points of a face on a face solved together, as Box2D's block solver does: the
-    accumulated impulses x >= 0 that bring both closing speeds to their targets, or one of them
-    with the other left separating, or none; b1, b2 the closing speeds less the targets with no
-    impulse, k the couplings. Solved one point after the other, a resting box would tip a
-    little each sweep, and a stack of boxes would lean and walk. Returns (found, x1, x2)."""
-    det = k11 * k22 - k12 * k12
-    x1, x2, found = 0.0, 0.0, False
-    if det > 1e-12 * k11 * k22:
-        x1, x2 = (-k22 * b1 + k12 * b2) / det, (k12 * b1 - k11 * b2) / det
-        found = x1 >= 0.0 and x2 >= 0.0
-    if not found:
-        x1, x2 = -b1 / k11, 0.0
-        found = x1 >= 0.0 and k12 * x1 + b2 >= 0.0
-    if not found:
-        x1, x2 = 0.0, -b2 / k22
-        found = x2 >= 0.0 and k12 * x2 + b1 >= 0.0
-    if not found:
-        x1, x2 = 0.0, 0.0
-        found = b1 >= 0.0 and b2 >= 0.0
-    return found, x1, x2
-
-
-@njit(cache=True, inline="always")
-def _together(k11, k22, k12, u1, u2, restitution):
-    """Both points of a two-point manifold meeting at closing speeds u1, u2: the impulses that give
-    each -e times its closing speed at once. Returns (possible, j1, j2): not possible if that
-    would need a pull."""
-    det = k11 * k22 - k12 * k12
-    if det <= 1e-12 * k11 * k22:
-        return False, 0.0, 0.0
-    b1, b2 = -(1.0 + restitution) * u1, -(1.0 + restitution) * u2
-    j1, j2 = (k22 * b1 - k12 * b2) / det, (k11 * b2 - k12 * b1) / det
-    return j1 >= 0.0 and j2 >= 0.0, j1, j2
-
 
 @njit(cache=True)
 def collide(rows, count, lin, ang, accelerations, inverse_masses, inverse_inertias, restitution, friction, rest_speed,
@@ -200,14 +67,14 @@ def collide(rows, count, lin, ang, accelerations, inverse_masses, inverse_inerti
         r = 0
         while r < count:
             i, j, nx, ny = I[r], J[r], N[r, 0], N[r, 1]
-            v, m = _load(lin, ang, i, j), _inverses(inverse_masses, inverse_inertias, i, j)
-            closing = _meets(v, accelerations, i, j, nx, ny, L[r, 0], L[r, 2], gap[r], dt, rest_speed)
+            v, m = load(lin, ang, i, j), inverses(inverse_masses, inverse_inertias, i, j)
+            closing = meets(v, accelerations, i, j, nx, ny, L[r, 0], L[r, 2], gap[r], dt, rest_speed)
             if partner[r] == r + 1:
                 s = r + 1
-                other = _meets(v, accelerations, i, j, nx, ny, L[s, 0], L[s, 2], gap[s], dt, rest_speed)
+                other = meets(v, accelerations, i, j, nx, ny, L[s, 0], L[s, 2], gap[s], dt, rest_speed)
                 if closing < 0.0 and other < 0.0:
-                    k11, k22, k12 = _couplings(m, j, L[r, 0], L[r, 2], L[s, 0], L[s, 2])
-                    possible, j1, j2 = _together(k11, k22, k12, closing, other, restitution)
+                    k11, k22, k12 = couplings(m, j, L[r, 0], L[r, 2], L[s, 0], L[s, 2])
+                    possible, j1, j2 = together(k11, k22, k12, closing, other, restitution)
                     if possible:
                         v = kicked(v, m, j, nx, ny, L[r, 0], L[r, 1], L[r, 2], L[r, 3], j1, 0.0)
                         v = kicked(v, m, j, nx, ny, L[s, 0], L[s, 1], L[s, 2], L[s, 3], j2, 0.0)
@@ -215,9 +82,9 @@ def collide(rows, count, lin, ang, accelerations, inverse_masses, inverse_inerti
                         hit[s] += j2
                         if friction > 0.0:
                             for q in (r, s):
-                                v, slid[q] = _friction(v, m, j, nx, ny, L[q, 0], L[q, 1], L[q, 2], L[q, 3],
+                                v, slid[q] = friction_kick(v, m, j, nx, ny, L[q, 0], L[q, 1], L[q, 2], L[q, 3],
                                                        mass_t[q], friction * hit[q], slid[q])
-                        _store(lin, ang, i, j, v)
+                        store(lin, ang, i, j, v)
                         met = True
                         r += 2
                         continue
@@ -226,9 +93,9 @@ def collide(rows, count, lin, ang, accelerations, inverse_masses, inverse_inerti
                 v = kicked(v, m, j, nx, ny, L[r, 0], L[r, 1], L[r, 2], L[r, 3], impulse, 0.0)
                 hit[r] += impulse
                 if friction > 0.0:
-                    v, slid[r] = _friction(v, m, j, nx, ny, L[r, 0], L[r, 1], L[r, 2], L[r, 3], mass_t[r],
+                    v, slid[r] = friction_kick(v, m, j, nx, ny, L[r, 0], L[r, 1], L[r, 2], L[r, 3], mass_t[r],
                                            friction * hit[r], slid[r])
-                _store(lin, ang, i, j, v)
+                store(lin, ang, i, j, v)
                 met = True
             r += 1
         if not met:
@@ -250,7 +117,7 @@ def _along_rows(rows, count, lin, ang, tangent):
     I, J, N, L = rows.i, rows.j, rows.normal, rows.lever
     out = np.empty(count)
     for r in range(count):
-        v = _load(lin, ang, I[r], J[r])
+        v = load(lin, ang, I[r], J[r])
         if tangent:
             out[r] = relative(v, J[r], -N[r, 1], N[r, 0], L[r, 1], L[r, 3])
         else:
@@ -274,45 +141,45 @@ def solve_velocities(rows, count, lin, ang, accelerations, inverse_masses, inver
     for r in range(count):
         if impulses[r] != 0.0 or frictions[r] != 0.0:
             i, j = I[r], J[r]
-            m = _inverses(inverse_masses, inverse_inertias, i, j)
-            v = kicked(_load(push_lin, push_ang, i, j), m, j, N[r, 0], N[r, 1],
+            m = inverses(inverse_masses, inverse_inertias, i, j)
+            v = kicked(load(push_lin, push_ang, i, j), m, j, N[r, 0], N[r, 1],
                        L[r, 0], L[r, 1], L[r, 2], L[r, 3], 0.5 * impulses[r], 0.5 * frictions[r])
-            _store(push_lin, push_ang, i, j, v)
+            store(push_lin, push_ang, i, j, v)
     scale = _largest(impulses, count)
     for _ in range(iterations):
         change = 0.0   # the largest change of an accumulated impulse in this sweep
         for r in range(count):
             if friction > 0.0:   # friction first, within what the normal impulse allowed last sweep
                 i, j, nx, ny = I[r], J[r], N[r, 0], N[r, 1]
-                v = _load(push_lin, push_ang, i, j)
+                v = load(push_lin, push_ang, i, j)
                 sliding = base_t[r] + relative(v, j, -ny, nx, L[r, 1], L[r, 3])
                 limit = friction * impulses[r]
                 spread = min(max(frictions[r] - 2.0 * mass_t[r] * sliding, -limit), limit)
                 if spread != frictions[r]:
-                    m = _inverses(inverse_masses, inverse_inertias, i, j)
+                    m = inverses(inverse_masses, inverse_inertias, i, j)
                     v = kicked(v, m, j, nx, ny, L[r, 0], L[r, 1], L[r, 2], L[r, 3],
                                0.0, 0.5 * (spread - frictions[r]))
-                    _store(push_lin, push_ang, i, j, v)
+                    store(push_lin, push_ang, i, j, v)
                     change = max(change, abs(spread - frictions[r]))
                     frictions[r] = spread
         r = 0
         while r < count:
             i, j, nx, ny = I[r], J[r], N[r, 0], N[r, 1]
-            v, m = _load(push_lin, push_ang, i, j), _inverses(inverse_masses, inverse_inertias, i, j)
+            v, m = load(push_lin, push_ang, i, j), inverses(inverse_masses, inverse_inertias, i, j)
             closing = base[r] + relative(v, j, nx, ny, L[r, 0], L[r, 2])
             target = -max(gap[r], 0.0) / dt
             if partner[r] == r + 1:
                 s = r + 1
                 second = base[s] + relative(v, j, nx, ny, L[s, 0], L[s, 2])
-                k11, k22, k12 = _couplings(m, j, L[r, 0], L[r, 2], L[s, 0], L[s, 2])
+                k11, k22, k12 = couplings(m, j, L[r, 0], L[r, 2], L[s, 0], L[s, 2])
                 k11, k22, k12 = 0.5 * k11, 0.5 * k22, 0.5 * k12   # an impulse moves the mean velocity by half
                 a1, a2, target2 = impulses[r], impulses[s], -max(gap[s], 0.0) / dt
-                found, x1, x2 = _block(k11, k22, k12, closing - target - (k11 * a1 + k12 * a2),
+                found, x1, x2 = block(k11, k22, k12, closing - target - (k11 * a1 + k12 * a2),
                                        second - target2 - (k12 * a1 + k22 * a2))
                 if found:
                     v = kicked(v, m, j, nx, ny, L[r, 0], L[r, 1], L[r, 2], L[r, 3], 0.5 * (x1 - a1), 0.0)
                     v = kicked(v, m, j, nx, ny, L[s, 0], L[s, 1], L[s, 2], L[s, 3], 0.5 * (x2 - a2), 0.0)
-                    _store(push_lin, push_ang, i, j, v)
+                    store(push_lin, push_ang, i, j, v)
                     impulses[r], impulses[s] = x1, x2
                     change, scale = max(change, abs(x1 - a1), abs(x2 - a2)), max(scale, x1, x2)
                     r += 2
@@ -320,7 +187,7 @@ def solve_velocities(rows, count, lin, ang, accelerations, inverse_masses, inver
             total = max(impulses[r] + 2.0 * mass[r] * (target - closing), 0.0)
             if total != impulses[r]:
                 v = kicked(v, m, j, nx, ny, L[r, 0], L[r, 1], L[r, 2], L[r, 3], 0.5 * (total - impulses[r]), 0.0)
-                _store(push_lin, push_ang, i, j, v)
+                store(push_lin, push_ang, i, j, v)
                 change, scale = max(change, abs(total - impulses[r])), max(scale, total)
                 impulses[r] = total
             r += 1
@@ -347,22 +214,22 @@ def solve_positions(rows, count, lin, ang, accelerations, inverse_masses, invers
     for k in range(over.shape[0]):
         r = over[k]
         i, j, nx, ny = I[r], J[r], N[r, 0], N[r, 1]
-        solved[k] = (relative(_load(mean_lin, ang, i, j), j, nx, ny, L[r, 0], L[r, 2])
-                     + relative(_load(push_lin, push_ang, i, j), j, nx, ny, L[r, 0], L[r, 2]))
+        solved[k] = (relative(load(mean_lin, ang, i, j), j, nx, ny, L[r, 0], L[r, 2])
+                     + relative(load(push_lin, push_ang, i, j), j, nx, ny, L[r, 0], L[r, 2]))
     scale = 0.0
     for _ in range(iterations):
         change = 0.0
         for k in range(over.shape[0]):
             r = over[k]
             i, j, nx, ny = I[r], J[r], N[r, 0], N[r, 1]
-            v = _load(shift_lin, shift_ang, i, j)
+            v = load(shift_lin, shift_ang, i, j)
             closing = solved[k] + relative(v, j, nx, ny, L[r, 0], L[r, 2])
             total = max(pseudo[r] + mass[r] * (POSITION_RATE * (-gap[r] - slop[r]) / dt - closing), 0.0)
             if total != pseudo[r]:
-                m = _inverses(inverse_masses, inverse_inertias, i, j)
+                m = inverses(inverse_masses, inverse_inertias, i, j)
                 v = kicked(v, m, j, nx, ny, L[r, 0], L[r, 1], L[r, 2], L[r, 3],
                            total - pseudo[r], 0.0)
-                _store(shift_lin, shift_ang, i, j, v)
+                store(shift_lin, shift_ang, i, j, v)
                 change, scale = max(change, abs(total - pseudo[r])), max(scale, total)
                 pseudo[r] = total
         if change <= TOLERANCE * scale:
@@ -386,17 +253,17 @@ def come_to_rest(rows, count, lin, ang, inverse_masses, inverse_inertias, fricti
         change = 0.0
         for r in pressed:
             i, j, nx, ny = I[r], J[r], N[r, 0], N[r, 1]
-            v, m = _load(lin, ang, i, j), _inverses(inverse_masses, inverse_inertias, i, j)
+            v, m = load(lin, ang, i, j), inverses(inverse_masses, inverse_inertias, i, j)
             total = max(impulses[r] - mass[r] * relative(v, j, nx, ny, L[r, 0], L[r, 2]), 0.0)
             if total != impulses[r]:
                 v = kicked(v, m, j, nx, ny, L[r, 0], L[r, 1], L[r, 2], L[r, 3], total - impulses[r], 0.0)
                 change = max(change, abs(total - impulses[r]))
                 impulses[r] = total
             if friction > 0.0:
-                v, slid = _friction(v, m, j, nx, ny, L[r, 0], L[r, 1], L[r, 2], L[r, 3], mass_t[r], friction * total,
+                v, slid = friction_kick(v, m, j, nx, ny, L[r, 0], L[r, 1], L[r, 2], L[r, 3], mass_t[r], friction * total,
                                     frictions[r])
                 change = max(change, abs(slid - frictions[r]))
                 frictions[r] = slid
-            _store(lin, ang, i, j, v)
+            store(lin, ang, i, j, v)
         if change <= TOLERANCE * scale:
             break
