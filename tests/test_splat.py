@@ -180,6 +180,16 @@ def test_drawing_no_discs_or_rings_changes_nothing():
     np.testing.assert_array_equal(canvas, before)
 
 
+@pytest.mark.parametrize("channels, colour", [(4, (1, 2, 3, 4)), (1, (1,)), (3, (1, 2)), (3, (1, 2, 3, 4))])
+def test_discs_and_rings_take_three_channels_and_three_colour_values(channels, colour):
+    canvas = np.zeros((10, 10, channels), np.uint8)
+    for draw in (lambda: draw_discs(canvas, [[5, 5]], 2.0, colour),
+                 lambda: splat.draw_annuli(canvas, [[5, 5]], 2.0, 1.0, colour)):
+        with pytest.raises(ValueError, match="3 channels"):
+            draw()
+    assert not canvas.any()
+
+
 def test_degenerate_discs_are_skipped():
     canvas = np.zeros((20, 20, 3), np.uint8)
     draw_discs(canvas, [[5, 5], [np.nan, 3], [4, np.inf], [10, 10], [12, 12]], [3, 3, 3, 0.0, -2.0], (9, 9, 9))

@@ -13,7 +13,7 @@ Rings (the annulus between r - t/2 and r + t/2, what cv2.circle draws with thick
 outer disc's fractions minus the inner disc's, each as above, so an annulus covers
 pi ((r + t/2)^2 - (r - t/2)^2) within the sum of the two discs' bounds.
 
-The kernels take any (h, w, k) canvas: a uint8 frame (the blend rounds: bias = 0.5) or a float
+The kernels take an (h, w, 3) canvas: a uint8 frame (the blend rounds: bias = 0.5) or a float
 one (bias 0), which is how the tests read the fractions themselves (`disc_coverage`).
 """
 from __future__ import annotations
@@ -47,36 +47,34 @@ def _runs(t0, t1, o0, o1, width):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def _blend(canvas, j, i, colors, n, c, bias):
-    if colors.shape[1] == 3:      # a frame: written out, which compiles to much faster code
-        v = canvas[j, i, 0]
-        canvas[j, i, 0] = v + (colors[n, 0] - v) * c + bias
-        v = canvas[j, i, 1]
-        canvas[j, i, 1] = v + (colors[n, 1] - v) * c + bias
-        v = canvas[j, i, 2]
-        canvas[j, i, 2] = v + (colors[n, 2] - v) * c + bias
-    else:
-        for k in range(colors.shape[1]):
-            v = canvas[j, i, k]
-            canvas[j, i, k] = v + (colors[n, k] - v) * c + bias
+def _color(colors, n):
+    """Colour n as three numbers, loaded once a disc: read from the array at every pixel, it was
+    loaded again after every store into the canvas (which the compiler cannot prove apart from
+    it), and a tiny disc took twice as long."""
+    return colors[n, 0], colors[n, 1], colors[n, 2]
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def _fill(canvas, j, i0, i1, colors, n, bias):
-    if colors.shape[1] == 3:
-        b, g, r = colors[n, 0] + bias, colors[n, 1] + bias, colors[n, 2] + bias
-        for i in range(i0, i1 + 1):
-            canvas[j, i, 0] = b
-            canvas[j, i, 1] = g
-            canvas[j, i, 2] = r
-    else:
-        for i in range(i0, i1 + 1):
-            for k in range(colors.shape[1]):
-                canvas[j, i, k] = colors[n, k] + bias
+def _blend(canvas, j, i, color, c, bias):
+    v = canvas[j, i, 0]
+    canvas[j, i, 0] = v + (color[0] - v) * c + bias
+    v = canvas[j, i, 1]
+    canvas[j, i, 1] = v + (color[1] - v) * c + bias
+    v = canvas[j, i, 2]
+    canvas[j, i, 2] = v + (color[2] - v) * c + bias
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def _tent(canvas, cx, cy, area, colors, n, bias):
+def _fill(canvas, j, i0, i1, color, bias):
+    b, g, r = color[0] + bias, color[1] + bias, color[2] + bias
+    for i in range(i0, i1 + 1):
+        canvas[j, i, 0] = b
+        canvas[j, i, 1] = g
+        canvas[j, i, 2] = r
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _tent(canvas, cx, cy, area, color, bias):
     """A sub-pixel disc: its area spread bilinearly over the four pixels around (cx, cy)."""
     height, width = canvas.shape[0], canvas.shape[1]
     i0 = int(math.floor(cx))
@@ -94,11 +92,11 @@ def _tent(canvas, cx, cy, area, colors, n, bias):
                 continue
             c = wy * (wx1 if di else 1.0 - wx1)
             if c > 0.0:
-                _blend(canvas, j, i, colors, n, min(c, 1.0), bias)
+                _blend(canvas, j, i, color, min(c, 1.0), bias)
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def _small_disc(canvas, cx, cy, r, colors, n, bias, scratch):
+def _small_disc(canvas, cx, cy, r, color, bias, scratch):
     height, width = canvas.shape[0], canvas.shape[1]
     i0, j0, w, h, alpha, beta = _small_cover(cx, cy, r, scratch)
     for jj in range(max(-j0, 0), min(h, height - j0)):
@@ -110,11 +108,11 @@ def _small_disc(canvas, cx, cy, r, colors, n, bias, scratch):
                 c = min(alpha * c + beta, 1.0)
             c = _mixed(c, i0 + ii - cx, j0 + jj - cy, r)
             if c > 0.0:
-                _blend(canvas, j0 + jj, i0 + ii, colors, n, min(c, 1.0), bias)
+                _blend(canvas, j0 + jj, i0 + ii, color, min(c, 1.0), bias)
 
 
 @njit(cache=True, error_model="numpy")
-def _large_disc(canvas, cx, cy, r, colors, n, bias):
+def _large_disc(canvas, cx, cy, r, color, bias):
     """A disc of radius >= SMALL, row by row: the inside run filled, the boundary blended."""
     height, width = canvas.shape[0], canvas.shape[1]
     rs = _shifted(r)
@@ -127,25 +125,28 @@ def _large_disc(canvas, cx, cy, r, colors, n, bias):
         for i in range(a, before + 1):
             c = _edge(i - cx, dy, r, rs)
             if c > 0.0:
-                _blend(canvas, j, i, colors, n, c, bias)
-        _fill(canvas, j, run0, run1, colors, n, bias)
+                _blend(canvas, j, i, color, c, bias)
+        _fill(canvas, j, run0, run1, color, bias)
         for i in range(after, b + 1):
             c = _edge(i - cx, dy, r, rs)
             if c > 0.0:
-                _blend(canvas, j, i, colors, n, c, bias)
-
-
-@njit(cache=True, inline="always", error_model="numpy")
-def _disc(canvas, cx, cy, r, colors, n, bias, scratch):
-    if r < TINY:
-        _tent(canvas, cx, cy, math.pi * r * r, colors, n, bias)
-    elif r < SMALL:
-        _small_disc(canvas, cx, cy, r, colors, n, bias, scratch)
-    else:
-        _large_disc(canvas, cx, cy, r, colors, n, bias)
+                _blend(canvas, j, i, color, c, bias)
 
 
 @njit(cache=True, error_model="numpy")
+def _covered_disc(canvas, cx, cy, r, color, bias, scratch):
+    """A disc of radius >= TINY, blended by covered fractions.
+
+    The loops over discs choose between this and _tent themselves: with the choice behind one
+    more function (inlined or not), a sub-pixel disc, the common case of a large gas, took 60
+    ns instead of 26 (numba's reference counting of the arrays around that call)."""
+    if r < SMALL:
+        _small_disc(canvas, cx, cy, r, color, bias, scratch)
+    else:
+        _large_disc(canvas, cx, cy, r, color, bias)
+
+
+@njit(cache=True, inline="always", error_model="numpy")
 def _off_canvas(cx, cy, r, width, height):
     return not (math.isfinite(cx) and math.isfinite(cy) and math.isfinite(r)) or (
         cx + r + 1.0 < 0.0 or cy + r + 1.0 < 0.0 or cx - r - 1.0 > width or cy - r - 1.0 > height)
@@ -153,22 +154,25 @@ def _off_canvas(cx, cy, r, width, height):
 
 @njit(cache=True, error_model="numpy")
 def splat_discs(canvas, centres, radii, colors, bias):
-    """Draw discs into canvas (h, w, k), in order. centres (n, 2) float pixels, radii (n,) pixels,
-    colors (n, >= k) in the canvas's channel order, bias 0.5 for integer canvases (rounding), 0.0
+    """Draw discs into canvas (h, w, 3), in order. centres (n, 2) float pixels, radii (n,) pixels,
+    colors (n, 3) in the canvas's channel order, bias 0.5 for integer canvases (rounding), 0.0
     for float ones. Discs with a non-finite centre or radius, or radius <= 0, are skipped."""
     height, width = canvas.shape[0], canvas.shape[1]
     scratch = np.empty((SCRATCH, SCRATCH))
     for n in range(centres.shape[0]):
         cx, cy, r = centres[n, 0], centres[n, 1], radii[n]
         if r > 0.0 and not _off_canvas(cx, cy, r, width, height):
-            _disc(canvas, cx, cy, r, colors, n, bias, scratch)
+            if r < TINY:
+                _tent(canvas, cx, cy, math.pi * r * r, _color(colors, n), bias)
+            else:
+                _covered_disc(canvas, cx, cy, r, _color(colors, n), bias, scratch)
 
 
 @njit(cache=True, error_model="numpy")
-def _ring(canvas, cx, cy, outer, inner, colors, n, bias, scratch):
+def _ring(canvas, cx, cy, outer, inner, color, bias, scratch):
     height, width = canvas.shape[0], canvas.shape[1]
     if outer < TINY:     # both sub-pixel: one splat of the annulus's area
-        _tent(canvas, cx, cy, math.pi * (outer * outer - inner * inner), colors, n, bias)
+        _tent(canvas, cx, cy, math.pi * (outer * outer - inner * inner), color, bias)
         return
     rs_out, rs_in = _shifted(outer), _shifted(inner)
     alpha_out, beta_out = _normalizer(cx, cy, outer, scratch)
@@ -190,12 +194,12 @@ def _ring(canvas, cx, cy, outer, inner, colors, n, bias, scratch):
                 c = (_fraction(dx, dy, outer, rs_out, alpha_out, beta_out)
                      - _fraction(dx, dy, inner, rs_in, alpha_in, beta_in))
                 if c > 0.0:
-                    _blend(canvas, j, i, colors, n, min(c, 1.0), bias)
+                    _blend(canvas, j, i, color, min(c, 1.0), bias)
 
 
 @njit(cache=True, error_model="numpy")
 def splat_rings(canvas, centres, radii, thickness, colors, bias):
-    """Draw rings into canvas (h, w, k), in order: the annulus between radii - thickness/2 and
+    """Draw rings into canvas (h, w, 3), in order: the annulus between radii - thickness/2 and
     radii + thickness/2 (each (n,) pixels; an inner radius <= 0 makes a disc, and so does a
     negative thickness: the disc of radius radii, cv2's FILLED). Other arguments as for
     splat_discs."""
@@ -207,10 +211,12 @@ def splat_rings(canvas, centres, radii, thickness, colors, bias):
         outer, inner = (radii[n], 0.0) if half < 0.0 else (radii[n] + half, radii[n] - half)
         if not (outer > 0.0) or not math.isfinite(inner) or _off_canvas(cx, cy, outer, width, height):
             continue
-        if inner <= 0.0:
-            _disc(canvas, cx, cy, outer, colors, n, bias, scratch)
+        if inner <= 0.0 and outer < TINY:
+            _tent(canvas, cx, cy, math.pi * outer * outer, _color(colors, n), bias)
+        elif inner <= 0.0:
+            _covered_disc(canvas, cx, cy, outer, _color(colors, n), bias, scratch)
         else:
-            _ring(canvas, cx, cy, outer, inner, colors, n, bias, scratch)
+            _ring(canvas, cx, cy, outer, inner, _color(colors, n), bias, scratch)
 
 
 # --- the Python side -------------------------------------------------------------------------------
@@ -228,8 +234,9 @@ def _prepare(canvas, centres, radii, colors):
     radii = np.ascontiguousarray(np.broadcast_to(np.asarray(radii, np.float64), (n,)))
     colors = np.asarray(colors, np.float64)
     colors = np.ascontiguousarray(np.broadcast_to(colors, (n, colors.shape[-1])))
-    if colors.shape[1] > canvas.shape[2]:
-        raise ValueError(f"{colors.shape[1]} colour channels for a canvas of {canvas.shape[2]}")
+    if canvas.shape[2] != 3 or colors.shape[1] != 3:
+        raise ValueError(f"discs are drawn in 3 channels: got a canvas of {canvas.shape[2]} and colours of "
+                         f"{colors.shape[1]}")
     return _read_only(centres), _read_only(radii), _read_only(colors)
 
 
@@ -242,8 +249,8 @@ def _read_only(array):
 
 
 def draw_discs(canvas, centres_px, radii_px, colors) -> None:
-    """Filled anti-aliased discs into canvas (h, w, k) in place, in order, in one compiled call.
-    centres_px (n, 2), radii_px (n,) or one radius, colors (n, k) or one (k,) colour in the
+    """Filled anti-aliased discs into canvas (h, w, 3) in place, in order, in one compiled call.
+    centres_px (n, 2), radii_px (n,) or one radius, colors (n, 3) or one (3,) colour in the
     canvas's channel order (BGR for a frame)."""
     centres, radii, colors = _prepare(canvas, centres_px, radii_px, colors)
     if len(centres):
@@ -263,14 +270,14 @@ def draw_annuli(canvas, centres_px, radii_px, thickness_px, colors) -> None:
 def disc_coverage(shape, centres_px, radii_px) -> np.ndarray:
     """The covered fractions (h, w) float64 of discs drawn alone on an empty canvas of `shape`
     (h, w): what draw_discs blends each pixel by (where the discs do not overlap)."""
-    canvas = np.zeros((shape[0], shape[1], 1))
-    draw_discs(canvas, centres_px, radii_px, [1.0])
+    canvas = np.zeros((shape[0], shape[1], 3))
+    draw_discs(canvas, centres_px, radii_px, [1.0, 1.0, 1.0])
     return canvas[:, :, 0]
 
 
 def ring_coverage(shape, centres_px, radii_px, thickness_px) -> np.ndarray:
     """As disc_coverage, for rings."""
-    canvas = np.zeros((shape[0], shape[1], 1))
-    draw_annuli(canvas, centres_px, radii_px, thickness_px, [1.0])
+    canvas = np.zeros((shape[0], shape[1], 3))
+    draw_annuli(canvas, centres_px, radii_px, thickness_px, [1.0, 1.0, 1.0])
     return canvas[:, :, 0]
 
