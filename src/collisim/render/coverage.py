@@ -160,6 +160,16 @@ def _small_cover(cx, cy, r, scratch):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
+def _normalized(c, alpha, beta):
+    """A fraction from _small_cover's scratch mapped by its (alpha, beta): INSIDE becomes 1."""
+    if c > 1.0:
+        return 1.0
+    if c > 0.0:
+        return min(alpha * c + beta, 1.0)
+    return c
+
+
+@njit(cache=True, inline="always", error_model="numpy")
 def _tent_weight(dx, dy, r):
     """Fraction of a disc's area pi r^2 that a bilinear splat gives the pixel at (dx, dy)."""
     return math.pi * r * r * max(1.0 - abs(dx), 0.0) * max(1.0 - abs(dy), 0.0)
