@@ -57,6 +57,11 @@ collision map's field (index and map None when the world has none: see statics_p
 how contacts respond: restitution e, the rest speed below which a contact rests instead of
 bouncing, the solver's sweeps per step, and the friction coefficient; volumes True for a world
 with polygons, whose frames count the bounding-volume funnel (narrowphase/hierarchy.py), else None."""
+Contacts = namedtuple("Contacts", ["found", "rows", "count", "pairs"])
+Contacts.__doc__ = """The contacts the next step starts from, kept from block to block (finding them again at
+each block's start cost a whole broad and narrow phase: a block is one frame at a million
+bodies): found and rows (response/rows.py, grown as needed), the rows' count (-1 before the
+first block: not found yet) and the candidate pairs (k, 2)."""
 Frames = namedtuple("Frames", ["positions", "velocities", "angles", "angular_velocities", "collisions",
                                "candidates", "approximate", "hierarchy"])
 Frames.__doc__ = """A block of frames: positions, velocities (f, n, 2); angles, angular_velocities (f, n);
@@ -204,11 +209,12 @@ def _log_wall(log, now, positions, box, i, axis, side, impulse):
 
 
 @njit(cache=True)
-def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, memory, phase_cycles):
+def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, memory, contacts, phase_cycles):
     """Advance bodies in place by out's frame count, each frame `substeps` steps of dt, filling
     out (Frames) and appending every collision to log. memory: the contacts' impulses of the
-    step before (response/warmstart.py). phase_cycles (8,) int64 receives the cycles per phase
-    and their total. Returns (log, memory)."""
+    step before (response/warmstart.py); contacts: those the next step starts from (Contacts).
+    phase_cycles (8,) int64 receives the cycles per phase and their total. Returns (log, memory,
+    contacts)."""
     start = cycles()
     b, s = bodies, statics
     n = b.positions.shape[0]
@@ -219,9 +225,12 @@ def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, memor
     inverse_masses, inverse_inertias = 1.0 / b.masses, 1.0 / b.inertias   # the solver multiplies
     levels = level_scratch(s.volumes, b)
     # each step's contacts are found from the state that ends the step before (so a frame's
-    # candidates are those of the state it records); the first, from the state given
-    found, rows, count, pairs, t = _contact_phases(b, s, broad, dt, margin, lo, hi, vertices, moved,
-                                                        new_found(4 * n), new_rows(8 * n), phase_cycles, cycles())
+    # candidates are those of the state it records); the first block's, from the state given
+    found, rows, count, pairs = contacts
+    t = cycles()
+    if count < 0:
+        found, rows, count, pairs, t = _contact_phases(b, s, broad, dt, margin, lo, hi, vertices, moved, found,
+                                                       rows, phase_cycles, t)
     for frame in range(out.positions.shape[0]):
         frame_collisions = out.collisions[frame]
         for _ in range(substeps):
@@ -261,7 +270,7 @@ def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, memor
             out.angular_velocities[frame] = b.angular_velocities
         t = _lap(phase_cycles, RECORD, t)
     phase_cycles[TOTAL] += cycles() - start
-    return log, memory
+    return log, memory, Contacts(found, rows, count, pairs)
 
 
 @njit(cache=True)
@@ -333,6 +342,8 @@ class DiscreteStepper:
         self.statics = Statics(w.box, w.segments, index, field, float(w.restitution), 2.0 * pull * self.dt,
                                ITERATIONS, float(w.friction), volumes)
         self.memory = no_memory()
+        self.contacts = Contacts(new_found(4 * w.n), new_rows(8 * w.n), -1, np.empty((0, 2), np.int64))
+        self.log = new_log(64)   # emptied and reused by every block: its room, grown once, stays
         self.broad = step_state(broadphase, world)
         chosen = f"{choose(world)} (auto)" if broadphase == AUTO else broadphase
         self.broadphase = chosen if w.n >= 2 else ""
@@ -347,10 +358,11 @@ class DiscreteStepper:
         # contacts turn polygons, and circles with friction; otherwise ω stays as given
         turning = bool(np.any(b.angular_velocities != 0.0) or np.any(b.shapes != CIRCLE) or self.statics.friction > 0)
         out = new_frames(count, len(b.positions), turning)
-        log, self.memory = self.profile.timed(lambda phase_cycles: run_frames(
-            b, self.statics, self.broad, self.dt, self.substeps, self.step_count, out, new_log(64), self.memory,
-            phase_cycles))
+        self.log.size[0] = 0
+        self.log, self.memory, self.contacts = self.profile.timed(lambda phase_cycles: run_frames(
+            b, self.statics, self.broad, self.dt, self.substeps, self.step_count, out, self.log, self.memory,
+            self.contacts, phase_cycles))
         self.step_count += count * self.substeps
         if not turning:
             out = constant_angles(out, b.angles.copy(), b.angular_velocities.copy())
-        return out, log_events(log)
+        return out, log_events(self.log)
