@@ -130,3 +130,17 @@ def test_the_hud_line_stays_inside_its_panel(size):
     draw_hud(canvas, (0, 0, *size), lines, 0.55 * max(1.0, size[1] / 480))
     columns = np.flatnonzero(canvas.any(axis=(0, 2)))
     assert 0 < columns[0] and columns[-1] < size[0] - 5
+
+
+def test_events_between_is_the_time_window_of_a_run_s_events():
+    """The player finds each frame's events by bisection: the same events as a mask over the
+    whole block, ties and the window's closed end included."""
+    events = collisim.simulate(collisim.load_scene("particles_250").replace(seconds=1.0)).events
+    assert len(events) > 100 and np.all(np.diff(events.time) >= 0)
+    times = np.concatenate([events.time[::7], events.time[::11] - 1e-9, [-1.0, 0.0, 2.0]])
+    for start, end in zip(np.sort(times), np.sort(times)[::-1]):
+        for lo, hi in ((start, end), (end, start), (-np.inf, end), (start - 0.12, start)):
+            window = events.between(lo, hi)
+            mask = (events.time > lo) & (events.time <= hi)
+            for name in ("time", "kind", "i", "j", "impulse", "point"):
+                np.testing.assert_array_equal(getattr(window, name), getattr(events, name)[mask])

@@ -62,6 +62,13 @@ class Events:
     def take(self, index) -> "Events":
         return Events(*(getattr(self, name)[index] for name in _EVENT_FIELDS))
 
+    def between(self, start: float, end: float) -> "Events":
+        """The events with start < time <= end, as views: found by bisection, since events are
+        kept in canonical order, time first (a player asks this every frame, of a block that
+        may hold a hundred thousand events)."""
+        first, last = np.searchsorted(self.time, [start, end], side="right")
+        return self.take(slice(first, last))
+
     def __len__(self) -> int:
         return len(self.time)
 

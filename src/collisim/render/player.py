@@ -149,7 +149,7 @@ class PanelPlayer:
 
     def _state(self, row: int) -> FrameState:
         b = self._block
-        past = b.events.take(b.events.time <= b.times[row] + 1e-12)
+        past = b.events.between(-np.inf, b.times[row] + 1e-12)
         return FrameState(float(b.times[row]), self._sample, b.positions[row], b.velocities[row], b.angles[row],
                           int(b.candidates[row]), int(b.pair_collisions[row]), self._collisions,
                           self.approximate_frames, past, hierarchy=b.hierarchy[row])
@@ -197,8 +197,9 @@ class PanelPlayer:
         pixels (box_region): a wall's contact point is on the wall, and half a ring outside
         would cover the frame."""
         for events in self._recent:
+            events = events.between(now - FLASH_SECONDS, now + 1e-12)
             # a support carrying a body at rest is no impact: it does not flash
-            fresh = (events.time <= now + 1e-12) & (events.time > now - FLASH_SECONDS) & (events.kind != SUPPORT)
+            fresh = events.kind != SUPPORT
             if not fresh.any():
                 continue
             age = (now - events.time[fresh]) / FLASH_SECONDS
