@@ -62,6 +62,21 @@ Contacts.__doc__ = """The contacts the next step starts from, kept from block to
 each block's start cost a whole broad and narrow phase: a block is one frame at a million
 bodies): found and rows (response/rows.py, grown as needed), the rows' count (-1 before the
 first block: not found yet) and the candidate pairs (k, 2)."""
+Work = namedtuple("Work", ["lo", "hi", "margin", "push", "shift", "push_turn", "shift_turn", "vertices", "moved",
+                           "inverse_masses", "inverse_inertias"])
+Work.__doc__ = """The step's per-body arrays, made once a run (made at every block, they were a tenth of a
+gigabyte a frame at a million bodies): the bounding boxes lo, hi (n, 2) and margins (n,) of
+the contact phases; the solver's push, shift (n, 2) and their turns (n,) (response/solver.py);
+the polygons' placed vertices and a scratch polygon; 1/m and 1/I (the solver multiplies)."""
+
+
+def new_work(bodies) -> Work:
+    n = len(bodies.positions)
+    return Work(np.empty((n, 2)), np.empty((n, 2)), np.empty(n), np.zeros((n, 2)), np.zeros((n, 2)), np.zeros(n),
+                np.zeros(n), np.empty_like(bodies.body_vertices),
+                np.empty((_largest_polygon(bodies.vertex_start), 2)), 1.0 / bodies.masses, 1.0 / bodies.inertias)
+
+
 Frames = namedtuple("Frames", ["positions", "velocities", "angles", "angular_velocities", "collisions",
                                "candidates", "approximate", "hierarchy"])
 Frames.__doc__ = """A block of frames: positions, velocities (f, n, 2); angles, angular_velocities (f, n);
@@ -209,20 +224,17 @@ def _log_wall(log, now, positions, box, i, axis, side, impulse):
 
 
 @njit(cache=True)
-def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, memory, contacts, phase_cycles):
+def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, memory, contacts, work, phase_cycles):
     """Advance bodies in place by out's frame count, each frame `substeps` steps of dt, filling
     out (Frames) and appending every collision to log. memory: the contacts' impulses of the
-    step before (response/warmstart.py); contacts: those the next step starts from (Contacts).
-    phase_cycles (8,) int64 receives the cycles per phase and their total. Returns (log, memory,
+    step before (response/warmstart.py); contacts: those the next step starts from (Contacts);
+    work: the step's per-body arrays (Work). phase_cycles (8,) int64 receives the cycles per phase and their total. Returns (log, memory,
     contacts)."""
     start = cycles()
     b, s = bodies, statics
     n = b.positions.shape[0]
-    lo, hi, margin = np.empty((n, 2)), np.empty((n, 2)), np.empty(n)
-    push, shift, push_turn, shift_turn = np.zeros((n, 2)), np.zeros((n, 2)), np.zeros(n), np.zeros(n)
-    vertices, moved = np.empty_like(b.body_vertices), np.empty((_largest_polygon(b.vertex_start), 2))
+    lo, hi, margin, push, shift, push_turn, shift_turn, vertices, moved, inverse_masses, inverse_inertias = work
     scratch = statics_scratch(n, s.segments.shape[0])
-    inverse_masses, inverse_inertias = 1.0 / b.masses, 1.0 / b.inertias   # the solver multiplies
     levels = level_scratch(s.volumes, b)
     # each step's contacts are found from the state that ends the step before (so a frame's
     # candidates are those of the state it records); the first block's, from the state given
@@ -342,8 +354,11 @@ class DiscreteStepper:
         self.statics = Statics(w.box, w.segments, index, field, float(w.restitution), 2.0 * pull * self.dt,
                                ITERATIONS, float(w.friction), volumes)
         self.memory = no_memory()
-        self.contacts = Contacts(new_found(4 * w.n), new_rows(8 * w.n), -1, np.empty((0, 2), np.int64))
+        # room for contacts grows with what a step finds (rows are zeroed, so room held for 8
+        # contacts a body cost 0.8 GB at a million bodies)
+        self.contacts = Contacts(new_found(64), new_rows(64), -1, np.empty((0, 2), np.int64))
         self.log = new_log(64)   # emptied and reused by every block: its room, grown once, stays
+        self.work = new_work(self.bodies)
         self.broad = step_state(broadphase, world)
         chosen = f"{choose(world)} (auto)" if broadphase == AUTO else broadphase
         self.broadphase = chosen if w.n >= 2 else ""
@@ -361,7 +376,7 @@ class DiscreteStepper:
         self.log.size[0] = 0
         self.log, self.memory, self.contacts = self.profile.timed(lambda phase_cycles: run_frames(
             b, self.statics, self.broad, self.dt, self.substeps, self.step_count, out, self.log, self.memory,
-            self.contacts, phase_cycles))
+            self.contacts, self.work, phase_cycles))
         self.step_count += count * self.substeps
         if not turning:
             out = constant_angles(out, b.angles.copy(), b.angular_velocities.copy())
