@@ -115,7 +115,7 @@ def _row(cx, dy, r):
     return t0, t1, t1 + 1.0, t1
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@njit(cache=True, error_model="numpy")
 def _small_cover(cx, cy, r, scratch):
     """A disc of radius in [TINY, SMALL): the raw covered fractions of its box (INSIDE for the
     pixels entirely inside) into scratch[:h, :w], and the affine map c -> alpha c + beta for

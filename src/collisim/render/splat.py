@@ -164,7 +164,7 @@ def splat_discs(canvas, centres, radii, colors, bias):
                 _covered_disc(canvas, cx, cy, r, _color(colors, n), bias, scratch)
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@njit(cache=True, error_model="numpy")
 def _small_ring(canvas, cx, cy, outer, inner, color, bias, scratch, inner_scratch):
     """A ring of outer radius in [TINY, SMALL): each disc's fractions computed once into its own
     scratch (as _small_disc does), the inner's subtracted from the outer's. The same numbers as
@@ -188,7 +188,7 @@ def _small_ring(canvas, cx, cy, outer, inner, color, bias, scratch, inner_scratc
                 _blend(canvas, j0 + jj, i0 + ii, color, min(c, 1.0), bias)
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@njit(cache=True, error_model="numpy")
 def _large_ring(canvas, cx, cy, outer, inner, color, bias, scratch):
     """A ring of outer radius >= SMALL, row by row, skipping the columns inside the inner disc."""
     height, width = canvas.shape[0], canvas.shape[1]
