@@ -108,6 +108,10 @@ class PanelPlayer:
         # the last sample the video shows, so the HUD's last frame reads "frame N/N"
         self.last_sample = source.frames if video_frames is None else self._sample_at(video_frames - 1)
         self._map_coverage = None   # the map's pixels on the canvas, computed at the first draw
+        # the circles' sizes and colours in pixels, once: they do not change (None: all are circles)
+        circles = np.flatnonzero(self.world.shapes == CIRCLE)
+        self._circles = None if len(circles) == self.world.n else circles
+        self._disc_style = raster.disc_style(self.view.length(self.world.radii[circles]), self.world.colors[circles])
 
     @property
     def profile(self) -> dict:
@@ -172,10 +176,9 @@ class PanelPlayer:
         line = max(2, int(round(2 * self.unit)))   # survives H.264 at -ql, and grows with the frame
         if settings.trails:
             raster.draw_trails(inside, self.view, np.array(self._history), world.colors, line, corner)
-        circles = world.shapes == CIRCLE
-        raster.draw_circles(canvas, self.view.to_pixels(state.positions[circles]),
-                            self.view.length(world.radii[circles]), world.colors[circles])
-        if not circles.all():
+        positions = state.positions if self._circles is None else state.positions[self._circles]
+        raster.draw_styled_circles(canvas, self.view.to_pixels(positions), self._disc_style)
+        if self._circles is not None:
             outlines, bodies = raster.polygon_outlines(world, state.positions, state.angles)
             raster.draw_polygons(canvas, [self.view.to_pixels(o) for o in outlines], world.colors[bodies])
         if settings.flash:

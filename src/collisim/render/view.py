@@ -26,8 +26,12 @@ class View:
         """points: (..., 2) world -> (..., 2) float pixel coordinates (x right, y down)."""
         points = np.asarray(points, dtype=np.float64)
         out = np.empty_like(points)
-        out[..., 0] = self.origin_x + self.scale * points[..., 0]
-        out[..., 1] = self.origin_y - self.scale * points[..., 1]
+        # in place, without temporaries (a player maps every body at every frame)
+        x, y = out[..., 0], out[..., 1]
+        np.multiply(points[..., 0], self.scale, out=x)
+        x += self.origin_x
+        np.multiply(points[..., 1], -self.scale, out=y)     # origin_y - scale·y, to the last bit
+        y += self.origin_y
         return out
 
     def length(self, world_length):

@@ -225,12 +225,13 @@ def many_particles_figures(folder: Path, n: int = 25_000, seconds: float = 5.0, 
     figures = {"n": n, "frames": scene.frames, "size": list(SIZE), "render_seconds": wall, "split": split,
                "encode_only_seconds": floor, "render_over_encode_only": wall / floor}
     if former:
-        compiled = raster.draw_circles
-        raster.draw_circles = cv2_circles
+        compiled = raster.draw_styled_circles
+        raster.draw_styled_circles = lambda canvas, centres, style: cv2_circles(canvas, centres, style.radii,
+                                                                               style.colors[:, ::-1])
         try:
             old_wall, old_split = render_seconds(scene, folder)
         finally:
-            raster.draw_circles = compiled
+            raster.draw_styled_circles = compiled
         figures["former"] = {"render_seconds": old_wall, "split": old_split,
                              "render_over_encode_only": old_wall / floor}
     return figures
