@@ -37,7 +37,7 @@ import numpy as np
 from numba import njit
 
 from ._common import (BroadPhase, bounding_box, box_meets_query, boxes_overlap, check_boxes,
-                      check_positive_option, new_pair_buffer, push_index, put_pair, reserve_pairs)
+                      check_positive_option, new_pair_buffer, push_index, push_pair)
 from .grid_walk import grid_raycast
 
 MAX_CELLS = 1 << 24  # 16.8 million cells: 134 MB of cell_start alone
@@ -131,7 +131,6 @@ def grid_pairs(lo, hi, origin, cells_per_unit, nx, ny, cell_start, cell_boxes):
         ix, iy = cell // ny, cell % ny
         for a in range(first, end):
             i = cell_boxes[a]
-            pairs = reserve_pairs(pairs, count, end - a - 1)   # room for all of i's, outside the loop
             for b in range(a + 1, end):
                 j = cell_boxes[b]
                 if not boxes_overlap(lo, hi, i, j):
@@ -141,7 +140,7 @@ def grid_pairs(lo, hi, origin, cells_per_unit, nx, ny, cell_start, cell_boxes):
                 corner_y = max(lo[i, 1], lo[j, 1])
                 if (cell_of(corner_x, origin[0], cells_per_unit, nx) == ix
                         and cell_of(corner_y, origin[1], cells_per_unit, ny) == iy):
-                    count = put_pair(pairs, count, i, j)
+                    pairs, count = push_pair(pairs, count, i, j)
     return pairs[:count]
 
 
