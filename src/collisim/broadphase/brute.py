@@ -12,7 +12,7 @@ per question, however small the query box or short the ray.
 import numpy as np
 from numba import njit
 
-from ._common import BroadPhase, boxes_overlap, box_meets_query, new_pair_buffer, push_index, push_pair
+from ._common import BroadPhase, boxes_overlap, box_meets_query, new_pair_buffer, push_index, put_pair, reserve_pairs
 from ._rays import new_hit_buffers, push_hit, ray_box_entry
 
 
@@ -22,9 +22,10 @@ def brute_force_pairs(lo, hi):
     n = lo.shape[0]
     pairs, count = new_pair_buffer(n), np.intp(0)
     for i in range(n):
+        pairs = reserve_pairs(pairs, count, n - i - 1)   # room for all of i's, outside the loop
         for j in range(i + 1, n):
             if boxes_overlap(lo, hi, i, j):
-                pairs, count = push_pair(pairs, count, i, j)
+                count = put_pair(pairs, count, i, j)
     return pairs[:count]
 
 

@@ -10,6 +10,9 @@ along the normal (for a circle: by growing it), their manifold taken there, and 
 given back: every depth less by g, every point moved by g/2 along the normal. For convex shapes
 this is exact: moving along the axis of least separation keeps the same closest features.
 
+The helpers of pair_manifold are inlined into it, as polygons.py's are (a call costs a reference
+count of each array it is handed).
+
 Bodies' shapes: shapes (n,) kinds; positions (n, 2); radii (n,) (a polygon's bounding radius);
 vertices (V, 2) the polygons' world vertices this step, body i's in vertices[start[i]:start[i+1]].
 """
@@ -40,7 +43,7 @@ def _flipped(m):
     return -nx, -ny, count, d0, px0, py0, d1, px1, py1
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _circles(positions, radii, i, j, margin):
     nx, ny, depth, _, _ = circle_circle(positions, radii, i, j)
     if depth <= -margin:
@@ -49,7 +52,7 @@ def _circles(positions, radii, i, j, margin):
     return nx, ny, 1, depth, positions[i, 0] + reach * nx, positions[i, 1] + reach * ny, 0.0, 0.0, 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _polygon_circle(a, cx, cy, r, margin):
     m = polygon_circle(a, cx, cy, r + margin)     # the circle grown by the margin
     if m[2] == 0:
@@ -57,7 +60,7 @@ def _polygon_circle(a, cx, cy, r, margin):
     return _given_back(m, margin)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _polygons(a, b, margin, moved):
     m = polygon_polygon(a, b, margin)     # farther apart than the margin along an axis: no contact
     if m[2] > 0:
