@@ -56,7 +56,7 @@ from ...geometry.box import clamp_into_box
 from ...model.kinds import N_WALLS, PAIR, SEGMENT, WALL
 from ..eventlog import append, new_log, with_room
 from .bodies import FREE, Bodies, Environment, advance, position_at, release, velocity_at
-from .eventqueue import CELL, is_current, key_parts, new_queue, pop, reserve
+from .eventqueue import CELL, SLIDE_OFF, is_current, key_parts, new_queue, pop, reserve
 from .fallback import skip_to_frame
 from ...broadphase.cells import assign_all, make_grid, move
 from .predict import predict_pairs, predict_solo
@@ -182,10 +182,12 @@ def _wake_if_hit_hard(bodies, grid, env, i, j, t, involved, count, listed):
 
 
 @njit(cache=True, error_model="numpy")
-def record_contacts(log, contacts, t, frame_counts):
-    """Log the contacts that delivered an impulse and count them by kind (a pair as i < j)."""
+def record_contacts(log, contacts, t, frame_counts, tally):
+    """Log the contacts that delivered an impulse and count them by kind (a pair as i < j);
+    count every contact processed in tally (EventLoop.tally)."""
     log = with_room(log, contacts.count[0])
     for k in range(contacts.count[0]):
+        tally[contacts.kind[k]] += 1
         if contacts.impulse[k] > 0.0:
             i, other = contacts.i[k], contacts.other[k]
             if contacts.kind[k] == PAIR and other < i:   # a contact with a sleeper is the awake one's
@@ -214,11 +216,13 @@ def sample(bodies, t, positions, velocities):
 
 
 EventLoop = namedtuple("EventLoop", ["bodies", "grid", "env", "queue", "contacts", "done", "listed", "involved",
-                                     "base", "t_end", "supports"])
+                                     "base", "t_end", "supports", "tally"])
 EventLoop.__doc__ = """Everything the event loop keeps from one block of frames to the next, so that a run
 streamed in blocks of any size is the same run: bodies, grid, env; the event queue; scratch
 (contacts, done, listed, involved); base (event key packing); t_end (the run's end: nothing
-later is predicted); supports (what resting bodies' supports push with, support.py)."""
+later is predicted); supports (what resting bodies' supports push with, support.py); tally (5,)
+int64: the events processed so far by kind — contacts with walls, particles and segments (kinds.py),
+cell crossings and slides off a segment's end (eventqueue.py) — for measuring events per second."""
 
 
 def start_event_loop(positions, velocities, gravity, radii, masses, box, restitution, segments, t_end,
@@ -246,7 +250,7 @@ def start_event_loop(positions, velocities, gravity, radii, masses, box, restitu
     done = np.zeros(n, np.bool_)
     queue = schedule_all(bodies, grid, env, new_queue(16 * (n + 1)), 0.0, t_end, base, done)
     return EventLoop(bodies, grid, env, queue, new_contacts(4 * n + 16), done, np.zeros(n, np.bool_),
-                     np.empty(n, np.int64), base, float(t_end), new_supports(n))
+                     np.empty(n, np.int64), base, float(t_end), new_supports(n), np.zeros(SLIDE_OFF + 1, np.int64))
 
 
 @njit(cache=True, error_model="numpy")
@@ -258,7 +262,7 @@ def run(loop, frame_dt, first, count, budget, positions, velocities, counts, ove
     in the loop."""
     bodies, grid, env, queue, contacts = loop.bodies, loop.grid, loop.env, loop.queue, loop.contacts
     done, listed, involved, base, t_end = loop.done, loop.listed, loop.involved, loop.base, loop.t_end
-    supports = loop.supports
+    supports, tally = loop.supports, loop.tally
     log = new_log(1024)
     for row in range(count):
         t_frame = (first + row) * frame_dt
@@ -279,10 +283,11 @@ def run(loop, frame_dt, first, count, budget, positions, velocities, counts, ove
                 settle_resting(bodies, env, contacts)
                 doze(bodies, grid, env, involved, n_involved, t)
                 mark_hits(bodies, contacts, t)
-                log = record_contacts(log, contacts, t, counts[row])
+                log = record_contacts(log, contacts, t, counts[row], tally)
                 processed += contacts.count[0]
             else:
                 apply_bookkeeping(bodies, grid, env, kind, i, j, t)
+                tally[kind] += 1
                 involved[0], n_involved = i, 1
                 processed += 1
             log = note_supports(log, bodies, env, supports, involved, n_involved, t)
