@@ -213,8 +213,3 @@ def reach_block(grid, c, reach):
     cx, cy = c % grid.nx, c // grid.nx
     return max(cx - reach, 0), min(cx + reach + 1, grid.nx), max(cy - reach, 0), min(cy + reach + 1, grid.ny)
 
-
-@njit(cache=True, error_model="numpy")
-def within_reach(grid, c, d, reach):
-    """Are cells c and d at most `reach` cells apart along each axis?"""
-    return abs(c % grid.nx - d % grid.nx) <= reach and abs(c // grid.nx - d // grid.nx) <= reach

@@ -66,19 +66,20 @@ def simulate(scene: Scene, progress=None, max_events: int = MAX_EVENTS, storage:
 def block_frames(scene: Scene) -> int:
     """Frames per stepper call: BLOCK_FRAMES, fewer for the discrete method when that many
     frames of positions and velocities (32 bytes a body) would exceed BLOCK_BYTES (a million
-    bodies: 1 frame). ccd keeps BLOCK_FRAMES: it rebuilds its event queue at every block."""
+    bodies: 1 frame). ccd keeps BLOCK_FRAMES."""
     if scene.method == "ccd":
         return BLOCK_FRAMES
     return int(max(1, min(BLOCK_FRAMES, BLOCK_BYTES // (32 * max(scene.world.n, 1)))))
 
 
-def stream(scene: Scene, block: int | None = None, progress=None) -> Iterator[Trajectory]:
+def stream(scene: Scene, block: int | None = None, progress=None, stepper=None) -> Iterator[Trajectory]:
     """Yield the trajectory in consecutive blocks of at most `block` samples (by default
     block_frames), so that a long render holds only one block in memory. The first block
-    starts with the t = 0 sample. Every block size gives the same bytes."""
+    starts with the t = 0 sample. Every block size gives the same bytes. `stepper`: one that
+    METHODS built for this scene and that has not run yet (a benchmark reads its counters after)."""
     if scene.world is None:
         raise ValueError(f"scene '{scene.name}' is made of panels or chapters; stream each one's scene")
-    stepper = METHODS[scene.method](scene)
+    stepper = METHODS[scene.method](scene) if stepper is None else stepper
     world, total = scene.world, scene.frames
     block = block_frames(scene) if block is None else block
     first = 0

@@ -45,7 +45,14 @@ def add_bench_parser(commands) -> None:
     polygons.add_argument("--repeats", type=int, default=3)
     polygons.add_argument("--scene", default="polygons", help="another scene of one world (bounding_volumes): "
                                                               "timed whole, not split into falling and pile")
-    for parser in (broad, render, accuracy, segments, maps, rays, polygons):
+    ccd = kinds.add_parser("ccd", help="the event-driven ccd method's events per second, and its cost against "
+                                       "plain pymunk at its first loss-free substep count, on the three gases")
+    ccd.add_argument("--workloads", nargs="+", default=["slow_gas", "dense_gas", "fast_gas"],
+                     help="slow_gas dense_gas fast_gas")
+    ccd.add_argument("--sizes", type=int, nargs="+", default=[1000, 10000])
+    ccd.add_argument("--seconds", type=float, default=1.0, help="simulated seconds per run")
+    ccd.add_argument("--repeats", type=int, default=3)
+    for parser in (broad, render, accuracy, segments, maps, rays, polygons, ccd):
         parser.add_argument("--out", type=Path, default=Path("renders/bench"), help="folder for CSV and PNG")
         parser.add_argument("--no-progress", action="store_true")
 
@@ -103,6 +110,13 @@ def cmd_bench(args) -> int:
         world, fps = load_world(args.scene)
         rows, profile = run(args.seconds, args.repeats, world, fps, falling=args.scene == "polygons")
         print(format_rows(rows, world.n, profile, args.scene))
+    elif args.kind == "ccd":
+        from .ccd import format_table, run
+        _check_positive_seconds(args.seconds)
+        figures = run(args.out, workloads=args.workloads, sizes=args.sizes, seconds=args.seconds,
+                      repeats=args.repeats, progress=not args.no_progress)
+        print(format_table(figures["rows"]))
+        print(f"wrote {figures['csv']}")
     elif args.kind == "render":
         from .render import run
         _check_positive_seconds(args.seconds)

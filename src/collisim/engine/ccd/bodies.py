@@ -84,20 +84,29 @@ def comes_to_rest(env, radius, rebound_speed, nx, ny):
 def rest_on(bodies, env, i, support, nx, ny):
     """Particle i (current) comes to rest on a support with unit normal n (pointing at
     it): no normal velocity, and the normal part of gravity is cancelled. If it already
-    rests on another support and slides into this one, it is wedged: it stops."""
-    if bodies.support[i] != FREE:
-        if bodies.acc[i, 0] * nx + bodies.acc[i, 1] * ny < 0.0:
-            bodies.wedge[i] = support
-            bodies.vel[i, 0] = bodies.vel[i, 1] = bodies.acc[i, 0] = bodies.acc[i, 1] = 0.0
-        return
-    vn = bodies.vel[i, 0] * nx + bodies.vel[i, 1] * ny
-    gn = env.gravity[0] * nx + env.gravity[1] * ny
-    bodies.vel[i, 0] -= vn * nx
-    bodies.vel[i, 1] -= vn * ny
-    bodies.acc[i, 0] = env.gravity[0] - gn * nx
-    bodies.acc[i, 1] = env.gravity[1] - gn * ny
-    bodies.support[i] = support
-    bodies.support_normal[i, 0], bodies.support_normal[i, 1] = nx, ny
+    rests on another support and slides into this one, it is wedged: it stops.
+
+    (The state is read into numbers, changed in the branches and written back after them:
+    namedtuples used last inside a branch cost a reference count per array per call, events.py.)"""
+    gx, gy = env.gravity[0], env.gravity[1]
+    vx, vy, ax, ay = bodies.vel[i, 0], bodies.vel[i, 1], bodies.acc[i, 0], bodies.acc[i, 1]
+    first, wedge = bodies.support[i], bodies.wedge[i]
+    first_nx, first_ny = bodies.support_normal[i, 0], bodies.support_normal[i, 1]
+    if first != FREE:
+        if ax * nx + ay * ny < 0.0:
+            wedge = support
+            vx = vy = ax = ay = 0.0
+    else:
+        vn = vx * nx + vy * ny
+        gn = gx * nx + gy * ny
+        vx -= vn * nx
+        vy -= vn * ny
+        ax = gx - gn * nx
+        ay = gy - gn * ny
+        first, first_nx, first_ny = support, nx, ny
+    bodies.vel[i, 0], bodies.vel[i, 1], bodies.acc[i, 0], bodies.acc[i, 1] = vx, vy, ax, ay
+    bodies.support[i], bodies.wedge[i] = first, wedge
+    bodies.support_normal[i, 0], bodies.support_normal[i, 1] = first_nx, first_ny
 
 
 @njit(cache=True, error_model="numpy")

@@ -36,15 +36,22 @@ Compiled code. Every function of the package is compiled by numba with
 error_model="numpy": a division by zero gives inf or nan, as in NumPy, instead
 of raising (every such case is guarded anyway, so results are the same). That
 is for speed. The state travels as namedtuples of arrays (Bodies, CellGrid,
-EventQueue), and when a function hands one to a callee that may raise, or uses
-it again after a branch, numba updates the reference count of every array in
-it around the call — more work than most of the arithmetic of an event. (Only
-allocating can still raise: the queue growing, the quartic root finder.) So the
-functions run at every event read the numbers they need out of a tuple before
-branching (bodies.rests_on, eventqueue.is_current), compare heap entries as
-plain numbers (eventqueue._before), allocate nothing (grid.neighbour_block), and
-call the segment test, whose quartics allocate, only where there are segments
-(predict.predict_solo).
+EventQueue, Contacts). numba increfs every array of a namedtuple argument on entry
+and decrefs it on return, and LLVM prunes the pairs only when nothing in between
+may raise or touch reference counts — then a call costs nothing but its
+arguments. Measured in the compiled code (2026-11): predict_solo made 110 such
+counter updates a call, collect_collisions 104, predict_pairs 56, _apply (once
+per contact and sweep) 68 — most of an event's time. What stops the pruning:
+(1) a callee that may raise: allocating (the log and the queue growing, the
+quartic root finder), fancy indexing, indexing a tuple with a variable; (2) a
+namedtuple whose last use is inside a branch (only on some paths); (3) a callee
+that itself keeps counters. So the functions run at every event read what they
+need out of a tuple before branching (bodies.rests_on, eventqueue.is_current,
+predict.predict_solo), use each tuple last outside any branch (resolve._apply,
+_add), leave allocating to run (with_room before record_contacts and
+note_supports), catch the impact times' allocation errors (predict._point_impact),
+write the pair test once in its loop (predict.predict_pairs), and skip calls that
+would do nothing (doze in a gas, waking a pair that is not asleep).
 """
 from collections import namedtuple
 from typing import NamedTuple
@@ -56,7 +63,7 @@ from ...geometry.box import clamp_into_box
 from ...model.kinds import N_WALLS, PAIR, SEGMENT, WALL
 from ..eventlog import append, new_log, with_room
 from .bodies import FREE, Bodies, Environment, advance, position_at, release, velocity_at
-from .eventqueue import CELL, is_current, key_parts, new_queue, pop, reserve
+from .eventqueue import CELL, SLIDE_OFF, event_key, is_current, key_parts, new_queue, pop, push, reserve
 from .fallback import skip_to_frame
 from ...broadphase.cells import assign_all, make_grid, move
 from .predict import predict_pairs, predict_solo
@@ -101,7 +108,10 @@ def reschedule(bodies, grid, env, queue, particles, count, t, t_end, base, done)
         counter[particles[k]] += 1
     queue = reserve(queue, count, counter, base)
     for k in range(count):
-        predict_solo(bodies, grid, env, queue, particles[k], t, t_end, base)
+        i = particles[k]
+        t_event, kind, j = predict_solo(bodies, grid, env, i, t, t_end)
+        if j >= 0:
+            push(queue, t_event, event_key(kind, i, j, base), counter[i], -1)
     for k in range(count):
         queue = reserve(queue, n, counter, base)
         predict_pairs(bodies, grid, queue, particles[k], t, done, base)
@@ -147,7 +157,8 @@ def collect_collisions(bodies, grid, env, queue, contacts, t, key, base, involve
         count = _involve(bodies, i, t, involved, count, listed)
         if kind == PAIR:
             count = _involve(bodies, j, t, involved, count, listed)
-            count = _wake_if_hit_hard(bodies, grid, env, i, j, t, involved, count, listed)
+            if bodies.asleep[i] != bodies.asleep[j]:
+                count = _wake_if_hit_hard(bodies, grid, env, i, j, t, involved, count, listed)
             add_pair_contact(bodies, env, contacts, i, j)
         elif kind == WALL:
             add_wall_contact(bodies, env, contacts, i, j)
@@ -163,16 +174,16 @@ def collect_collisions(bodies, grid, env, queue, contacts, t, key, base, involve
         if contacts.j[k] >= 0:  # a collision with a particle ends resting; settle_resting may restore it
             release(bodies, env, contacts.i[k])
             release(bodies, env, contacts.j[k])
-    listed[involved[:count]] = False
+    for k in range(count):   # a loop, not listed[involved[:count]]: fancy indexing may raise
+        listed[involved[k]] = False
     return count
 
 
 @njit(cache=True, error_model="numpy")
 def _wake_if_hit_hard(bodies, grid, env, i, j, t, involved, count, listed):
-    """A pair (current) where one sleeps: a hit faster than the sleeper's rest speed wakes it
-    (and what rests on it, sleep.py). Returns the new count of involved particles."""
-    if bodies.asleep[i] == bodies.asleep[j]:
-        return count
+    """A pair (current) where one sleeps (the caller checks: most pairs are both awake, and
+    skipping the call saves its reference counting): a hit faster than the sleeper's rest speed
+    wakes it (and what rests on it, sleep.py). Returns the new count of involved particles."""
     sleeper = i if bodies.asleep[i] else j
     nx, ny, _ = line_of_centres(bodies.pos, i, j)
     approach = (bodies.vel[i, 0] - bodies.vel[j, 0]) * nx + (bodies.vel[i, 1] - bodies.vel[j, 1]) * ny
@@ -182,25 +193,27 @@ def _wake_if_hit_hard(bodies, grid, env, i, j, t, involved, count, listed):
 
 
 @njit(cache=True, error_model="numpy")
-def record_contacts(log, contacts, t, frame_counts):
-    """Log the contacts that delivered an impulse and count them by kind (a pair as i < j)."""
-    log = with_room(log, contacts.count[0])
+def record_contacts(log, contacts, t, frame_counts, tally):
+    """Log the contacts that delivered an impulse and count them by kind (a pair as i < j);
+    count every contact processed in tally (EventLoop.tally). The caller makes room in the log
+    (with_room): a function that may allocate costs reference counting at every call (run)."""
     for k in range(contacts.count[0]):
+        tally[contacts.kind[k]] += 1
         if contacts.impulse[k] > 0.0:
             i, other = contacts.i[k], contacts.other[k]
             if contacts.kind[k] == PAIR and other < i:   # a contact with a sleeper is the awake one's
                 i, other = other, i
             append(log, t, contacts.kind[k], i, other, contacts.impulse[k], contacts.x[k], contacts.y[k])
             frame_counts[contacts.kind[k]] += 1
-    return log
 
 
 @njit(cache=True, error_model="numpy")
 def apply_bookkeeping(bodies, grid, env, kind, i, j, t):
     """A cell crossing (move i to the next cell in direction j) or a slide off a segment's end."""
     advance(bodies, i, t)
-    if kind == CELL:
-        move(grid, i, grid.cell[i] + (-1, 1, -grid.nx, grid.nx)[j])
+    if kind == CELL:   # directions 0 -x, 1 +x, 2 -y, 3 +y (written out: indexing a tuple may raise)
+        step = -1 if j == 0 else 1 if j == 1 else -grid.nx if j == 2 else grid.nx
+        move(grid, i, grid.cell[i] + step)
     else:
         release(bodies, env, i)
 
@@ -214,11 +227,13 @@ def sample(bodies, t, positions, velocities):
 
 
 EventLoop = namedtuple("EventLoop", ["bodies", "grid", "env", "queue", "contacts", "done", "listed", "involved",
-                                     "base", "t_end", "supports"])
+                                     "base", "t_end", "supports", "tally"])
 EventLoop.__doc__ = """Everything the event loop keeps from one block of frames to the next, so that a run
 streamed in blocks of any size is the same run: bodies, grid, env; the event queue; scratch
 (contacts, done, listed, involved); base (event key packing); t_end (the run's end: nothing
-later is predicted); supports (what resting bodies' supports push with, support.py)."""
+later is predicted); supports (what resting bodies' supports push with, support.py); tally (5,)
+int64: the events processed so far by kind — contacts with walls, particles and segments (kinds.py),
+cell crossings and slides off a segment's end (eventqueue.py) — for measuring events per second."""
 
 
 def start_event_loop(positions, velocities, gravity, radii, masses, box, restitution, segments, t_end,
@@ -246,7 +261,7 @@ def start_event_loop(positions, velocities, gravity, radii, masses, box, restitu
     done = np.zeros(n, np.bool_)
     queue = schedule_all(bodies, grid, env, new_queue(16 * (n + 1)), 0.0, t_end, base, done)
     return EventLoop(bodies, grid, env, queue, new_contacts(4 * n + 16), done, np.zeros(n, np.bool_),
-                     np.empty(n, np.int64), base, float(t_end), new_supports(n))
+                     np.empty(n, np.int64), base, float(t_end), new_supports(n), np.zeros(SLIDE_OFF + 1, np.int64))
 
 
 @njit(cache=True, error_model="numpy")
@@ -258,7 +273,10 @@ def run(loop, frame_dt, first, count, budget, positions, velocities, counts, ove
     in the loop."""
     bodies, grid, env, queue, contacts = loop.bodies, loop.grid, loop.env, loop.queue, loop.contacts
     done, listed, involved, base, t_end = loop.done, loop.listed, loop.involved, loop.base, loop.t_end
-    supports = loop.supports
+    supports, tally = loop.supports, loop.tally
+    may_sleep = False   # doze does nothing when no body may sleep (gases): no call at every event
+    for body in range(env.rest_speed.shape[0]):
+        may_sleep = may_sleep or env.rest_speed[body] > 0.0
     log = new_log(1024)
     for row in range(count):
         t_frame = (first + row) * frame_dt
@@ -277,15 +295,19 @@ def run(loop, frame_dt, first, count, budget, positions, velocities, counts, ove
                 n_involved = collect_collisions(bodies, grid, env, queue, contacts, t, key, base, involved, listed)
                 solve_contacts(bodies, contacts)
                 settle_resting(bodies, env, contacts)
-                doze(bodies, grid, env, involved, n_involved, t)
+                if may_sleep:
+                    doze(bodies, grid, env, involved, n_involved, t)
                 mark_hits(bodies, contacts, t)
-                log = record_contacts(log, contacts, t, counts[row])
+                log = with_room(log, contacts.count[0])
+                record_contacts(log, contacts, t, counts[row], tally)
                 processed += contacts.count[0]
             else:
                 apply_bookkeeping(bodies, grid, env, kind, i, j, t)
+                tally[kind] += 1
                 involved[0], n_involved = i, 1
                 processed += 1
-            log = note_supports(log, bodies, env, supports, involved, n_involved, t)
+            log = with_room(log, 2 * n_involved)
+            note_supports(log, bodies, env, supports, involved, n_involved, t)
             queue = reschedule(bodies, grid, env, queue, involved, n_involved, t, t_end, base, done)
         log = log_frame_supports(log, bodies, env, supports, t_frame)
         if over_budget[row]:

@@ -14,6 +14,8 @@ bodies kept out of the cell lists (broadphase/cells.py) are tested from both
 sides: i tests each of them whose reach covers its cell, and a large body
 tests the block of cells its reach covers.
 """
+import math
+
 from numba import njit
 
 from ...geometry.box import wall_geometry
@@ -21,7 +23,32 @@ from ...geometry.toi import time_to_point, time_to_segment, time_to_wall
 from ...model.kinds import N_WALLS, PAIR, SEGMENT, WALL
 from .bodies import FREE, position_at, rests_on, velocity_at
 from .eventqueue import CELL, SLIDE_OFF, event_key, push
-from ...broadphase.cells import cell_bounds, is_apart, reach_block, within_reach
+from ...broadphase.cells import cell_bounds, is_apart, reach_block
+
+
+@njit(cache=True, error_model="numpy")
+def _point_impact(dx, dy, vx, vy, ax, ay, dist, t_max):
+    """toi.time_to_point, for the per-event predictions. Its quartic allocates a few small
+    arrays, so numba compiles it as a call that may raise (MemoryError), and a function that
+    makes such a call increfs every array of the namedtuples it was given on entry and decrefs
+    them on return (the reference-count pruning cannot pair them across the error path): in
+    predict_pairs that was 56 counter updates per call, more than the arithmetic of the pairs.
+    Catching here makes the call one that cannot raise. The only error it can hide is running
+    out of memory for five floats, which would end the run a moment later anyway; it reads as
+    no impact."""
+    try:
+        return time_to_point(dx, dy, vx, vy, ax, ay, dist, t_max)
+    except Exception:
+        return math.inf
+
+
+@njit(cache=True, error_model="numpy")
+def _segment_impact(px, py, vx, vy, ax, ay, r, x0, y0, x1, y1, t_max):
+    """toi.time_to_segment's impact time, caught as in _point_impact for the same reason."""
+    try:
+        return time_to_segment(px, py, vx, vy, ax, ay, r, x0, y0, x1, y1, t_max)[0]
+    except Exception:
+        return math.inf
 
 
 @njit(cache=True, error_model="numpy")
@@ -70,31 +97,31 @@ def next_wall_hit(bodies, env, i, t_max):
 
 
 @njit(cache=True, error_model="numpy")
-def next_segment_hit(bodies, grid, env, i, t_max):
-    """(t, segment) of particle i's next impact with a segment near its cell."""
+def next_segment_hit(bodies, segments, listed, first, last, every, i, t_max):
+    """(t, segment) of particle i's next impact with a segment near its cell: the segments
+    listed[first:last] (the grid's lists, broadphase/cells.py), or segments first .. last - 1
+    themselves when `every` (a large body kept apart tests every segment). Arrays and numbers
+    rather than the grid and the environment: see predict_solo."""
     best_t, best_segment = t_max, -1
-    c = grid.cell[i]
-    apart = is_apart(grid, i)   # a large body kept apart tests every segment
-    first, last = (0, env.segments.shape[0]) if apart else (grid.segment_start[c], grid.segment_start[c + 1])
     for k in range(first, last):
-        s = k if apart else grid.segment_index[k]
+        s = k if every else listed[k]
         if rests_on(bodies, i, N_WALLS + s):
             continue
-        x0, y0, x1, y1 = env.segments[s, 0], env.segments[s, 1], env.segments[s, 2], env.segments[s, 3]
-        t = time_to_segment(bodies.pos[i, 0], bodies.pos[i, 1], bodies.vel[i, 0], bodies.vel[i, 1],
-                            bodies.acc[i, 0], bodies.acc[i, 1], bodies.radius[i], x0, y0, x1, y1, best_t)[0]
+        x0, y0, x1, y1 = segments[s, 0], segments[s, 1], segments[s, 2], segments[s, 3]
+        t = _segment_impact(bodies.pos[i, 0], bodies.pos[i, 1], bodies.vel[i, 0], bodies.vel[i, 1],
+                            bodies.acc[i, 0], bodies.acc[i, 1], bodies.radius[i], x0, y0, x1, y1, best_t)
         if t < best_t:
             best_t, best_segment = t, s
     return best_t, best_segment
 
 
 @njit(cache=True, error_model="numpy")
-def slide_off_time(bodies, env, i, t_max):
+def slide_off_time(bodies, segments, i, t_max):
     """When particle i, resting (not wedged) on a segment, slides past one of its end points:
     its coordinate along the segment leaves [0, length] (two 1D walls)."""
     s = bodies.support[i] - N_WALLS
-    x0, y0 = env.segments[s, 0], env.segments[s, 1]
-    ex, ey = env.segments[s, 2] - x0, env.segments[s, 3] - y0
+    x0, y0 = segments[s, 0], segments[s, 1]
+    ex, ey = segments[s, 2] - x0, segments[s, 3] - y0
     length = (ex * ex + ey * ey) ** 0.5
     ux, uy = ex / length, ey / length
     w = (bodies.pos[i, 0] - x0) * ux + (bodies.pos[i, 1] - y0) * uy
@@ -104,31 +131,37 @@ def slide_off_time(bodies, env, i, t_max):
 
 
 @njit(cache=True, error_model="numpy")
-def predict_solo(bodies, grid, env, queue, i, t_now, t_end, base):
-    """Queue particle i's next one-particle event and set its horizon.
+def predict_solo(bodies, grid, env, i, t_now, t_end):
+    """Particle i's next one-particle event (t, kind, j) — t absolute, j = -1 for none (nothing
+    before t_end, or asleep: frozen, nothing happens to it on its own) — for the caller to queue;
+    sets its horizon. Particle i must be current (t_ref = t_now).
 
-    Particle i must be current (t_ref = t_now). Events after t_end are not queued.
-    """
+    What it needs of the grid and the environment is read before any branch, the event is
+    queued by the caller and the horizon set once: a namedtuple used last inside a branch makes
+    numba count references on each of its arrays at every call (events.py). So the searches
+    also run for a sleeper (nothing moves: they find nothing) and their result is dropped."""
     limit = t_end - t_now
-    if bodies.asleep[i]:   # frozen: nothing happens to it on its own
-        bodies.horizon[i] = t_end
-        return
+    asleep = bodies.asleep[i]
+    c = grid.cell[i]
+    every, segments, listed = is_apart(grid, i), env.segments, grid.segment_index
+    first, last = grid.segment_start[c], grid.segment_start[c + 1]
+    if every:   # a large body kept apart tests every segment
+        first, last = 0, segments.shape[0]
+    support, wedge = bodies.support[i], bodies.wedge[i]
     best = (limit, CELL, -1)
     t, direction = next_cell_crossing(bodies, grid, i, limit)
     best = _earlier(t, CELL, direction, *best)
     t, wall = next_wall_hit(bodies, env, i, best[0])
     best = _earlier(t, WALL, wall, *best)
-    c = grid.cell[i]
-    if grid.segment_start[c + 1] > grid.segment_start[c] or (is_apart(grid, i) and env.segments.shape[0] > 0):
-        # only call it when there are segments to test
-        t, s = next_segment_hit(bodies, grid, env, i, best[0])
+    if last > first:   # only call it when there are segments to test
+        t, s = next_segment_hit(bodies, segments, listed, first, last, every, i, best[0])
         best = _earlier(t, SEGMENT, s, *best)
-    if bodies.support[i] >= N_WALLS and bodies.wedge[i] == FREE:
-        best = _earlier(slide_off_time(bodies, env, i, best[0]), SLIDE_OFF, bodies.support[i] - N_WALLS, *best)
+    if support >= N_WALLS and wedge == FREE:
+        best = _earlier(slide_off_time(bodies, segments, i, best[0]), SLIDE_OFF, support - N_WALLS, *best)
     t, kind, j = best
-    if j >= 0:
-        push(queue, t_now + t, event_key(kind, i, j, base), bodies.counter[i], -1)
-    bodies.horizon[i] = t_now + t
+    horizon = t_end if asleep else t_now + t
+    bodies.horizon[i] = horizon
+    return horizon, kind, -1 if asleep else j
 
 
 @njit(cache=True, error_model="numpy")
@@ -136,43 +169,37 @@ def predict_pairs(bodies, grid, queue, i, t_now, done, base):
     """Queue particle i's collisions with the particles of its block of cells (3 × 3, or as
     far as a large body reaches) and with the large bodies kept apart that may reach it,
     each up to the earlier of the two horizons, skipping the particles j with done[j] (whose
-    pairs were just predicted). i must be current."""
+    pairs were just predicted). i must be current.
+
+    The candidates of both kinds go through one loop — the block's cells in row order, each
+    cell's list, then the bodies kept apart — so the pair test is written once, in this
+    function, and so is the test whether a large body reaches i's cell: a call per pair passing
+    the namedtuples (the old predict_pair), or even one to a small function of numbers (the old
+    cells.within_reach), made numba keep a reference count on every array of the namedtuples
+    around each call of this function (events.py), more work than the pairs themselves."""
     xi, yi = bodies.pos[i, 0], bodies.pos[i, 1]
     vxi, vyi = bodies.vel[i, 0], bodies.vel[i, 1]
     axi, ayi = bodies.acc[i, 0], bodies.acc[i, 1]
-    reach = grid.reach[i]
-    cx_lo, cx_hi, cy_lo, cy_hi = reach_block(grid, grid.cell[i], reach)
-    for cy in range(cy_lo, cy_hi):
-        for cx in range(cx_lo, cx_hi):
-            j = grid.head[cy * grid.nx + cx]
-            while j >= 0:
-                if j != i and not done[j]:
-                    xj, yj = position_at(bodies, j, t_now)
-                    vxj, vyj = velocity_at(bodies, j, t_now)
-                    t_max = min(bodies.horizon[i], bodies.horizon[j]) - t_now
-                    t = time_to_point(xj - xi, yj - yi, vxj - vxi, vyj - vyi, bodies.acc[j, 0] - axi,
-                                      bodies.acc[j, 1] - ayi, bodies.radius[i] + bodies.radius[j], t_max)
-                    if t <= t_max:
-                        lo, hi = min(i, j), max(i, j)
-                        push(queue, t_now + t, event_key(PAIR, lo, hi, base), bodies.counter[lo], bodies.counter[hi])
-                j = grid.next[j]
-    if grid.apart.shape[0] == 0:
-        return
-    for k in range(grid.apart.shape[0]):
-        j = grid.apart[k]
-        if j != i and not done[j] and (reach > 1 or within_reach(grid, grid.cell[i], grid.cell[j], grid.reach[j])):
-            predict_pair(bodies, queue, i, j, t_now, base)
-
-
-@njit(cache=True, error_model="numpy")
-def predict_pair(bodies, queue, i, j, t_now, base):
-    """Queue the collision of i (current) and j if it comes before both horizons."""
-    xj, yj = position_at(bodies, j, t_now)
-    vxj, vyj = velocity_at(bodies, j, t_now)
-    t_max = min(bodies.horizon[i], bodies.horizon[j]) - t_now
-    t = time_to_point(xj - bodies.pos[i, 0], yj - bodies.pos[i, 1], vxj - bodies.vel[i, 0], vyj - bodies.vel[i, 1],
-                      bodies.acc[j, 0] - bodies.acc[i, 0], bodies.acc[j, 1] - bodies.acc[i, 1],
-                      bodies.radius[i] + bodies.radius[j], t_max)
-    if t <= t_max:
-        lo, hi = min(i, j), max(i, j)
-        push(queue, t_now + t, event_key(PAIR, lo, hi, base), bodies.counter[lo], bodies.counter[hi])
+    reach, ci, nx = grid.reach[i], grid.cell[i], grid.nx
+    cx_lo, cx_hi, cy_lo, cy_hi = reach_block(grid, ci, reach)
+    width = cx_hi - cx_lo
+    cells = width * (cy_hi - cy_lo)
+    for slot in range(cells + grid.apart.shape[0]):
+        if slot < cells:
+            j = grid.head[(cy_lo + slot // width) * nx + cx_lo + slot % width]
+        else:
+            j = grid.apart[slot - cells]
+            cj, reach_j = grid.cell[j], grid.reach[j]   # does this large body reach i's cell?
+            if not (reach > 1 or (abs(ci % nx - cj % nx) <= reach_j and abs(ci // nx - cj // nx) <= reach_j)):
+                j = -1
+        while j >= 0:
+            if j != i and not done[j]:
+                xj, yj = position_at(bodies, j, t_now)
+                vxj, vyj = velocity_at(bodies, j, t_now)
+                t_max = min(bodies.horizon[i], bodies.horizon[j]) - t_now
+                t = _point_impact(xj - xi, yj - yi, vxj - vxi, vyj - vyi, bodies.acc[j, 0] - axi,
+                                  bodies.acc[j, 1] - ayi, bodies.radius[i] + bodies.radius[j], t_max)
+                if t <= t_max:
+                    lo, hi = min(i, j), max(i, j)
+                    push(queue, t_now + t, event_key(PAIR, lo, hi, base), bodies.counter[lo], bodies.counter[hi])
+            j = grid.next[j] if slot < cells else -1

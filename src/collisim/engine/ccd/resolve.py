@@ -114,7 +114,10 @@ def _add(bodies, env, contacts, kind, i, j, other, nx, ny, x, y, can_rest):
     approach = max(vx * nx + vy * ny, 0.0)
     # TC model: a body hit again within tc of its last collision collides elastically
     t = bodies.t_ref[i]
-    recent = t - bodies.last_hit[i] < env.tc or (j >= 0 and t - bodies.last_hit[j] < env.tc)
+    # read unconditionally (j = -1 reads the last body's, unused): bodies is not used again, and a
+    # namedtuple last used inside a branch costs a reference count per array per call (events.py)
+    hit_i, hit_j = bodies.last_hit[i], bodies.last_hit[j]
+    recent = t - hit_i < env.tc or (j >= 0 and t - hit_j < env.tc)
     restitution = 1.0 if recent else env.restitution
     contacts.kind[k], contacts.i[k], contacts.j[k], contacts.other[k] = kind, i, j, other
     contacts.nx[k], contacts.ny[k], contacts.x[k], contacts.y[k] = nx, ny, x, y
@@ -172,11 +175,13 @@ def _apply(bodies, contacts, k, change):
     """Add `change` to contact k's impulse, updating the velocities."""
     i, j = contacts.i[k], contacts.j[k]
     nx, ny = contacts.nx[k], contacts.ny[k]
-    bodies.vel[i, 0] -= change / bodies.mass[i] * nx
-    bodies.vel[i, 1] -= change / bodies.mass[i] * ny
+    # j first: a namedtuple last used inside a branch costs a reference count on each of its
+    # arrays at every call (events.py); i != j, so the order changes no number
     if j >= 0:
         bodies.vel[j, 0] += change / bodies.mass[j] * nx
         bodies.vel[j, 1] += change / bodies.mass[j] * ny
+    bodies.vel[i, 0] -= change / bodies.mass[i] * nx
+    bodies.vel[i, 1] -= change / bodies.mass[i] * ny
     contacts.impulse[k] += change
 
 

@@ -15,6 +15,7 @@ from ...model.kinds import CIRCLE, MAP, SEGMENT
 from ...model.trajectory import Events
 from ..discrete import new_frames
 from ..profile import Profile
+from .eventqueue import CELL
 from .events import run, sorted_log, start_event_loop
 from .fallback import FALLBACK_NOTE
 
@@ -73,3 +74,10 @@ class CCDStepper:
         out.angular_velocities[:] = w.angular_velocities
         self._frames_done += count
         return out, map_events(Events(*sorted_log(log)), len(w.segments))
+
+    def events_processed(self) -> dict:
+        """Events processed so far, by kind: "collisions" (contacts with walls, particles and
+        segments, impulse or not) and "bookkeeping" (cell crossings and slides off a segment's
+        end: no velocity changes, but each is predicted again like a collision)."""
+        tally = self.loop.tally
+        return {"collisions": int(tally[:CELL].sum()), "bookkeeping": int(tally[CELL:].sum())}

@@ -82,8 +82,9 @@ def _log_impulses(log, bodies, env, supports, i, t):
 @njit(cache=True, error_model="numpy")
 def note_supports(log, bodies, env, supports, particles, count, t):
     """After an event at time t involving particles[:count] (current): log what their supports
-    gave them up to t where their resting changed, and record the new supports. Returns the log."""
-    log = with_room(log, 2 * count)
+    gave them up to t where their resting changed, and record the new supports. The caller makes
+    room for 2 count events in the log (with_room): allocating here would cost reference counting
+    at every event (events.run)."""
     for k in range(count):
         i = particles[k]
         if bodies.support[i] == supports.support[i, 0] and bodies.wedge[i] == supports.support[i, 1]:
@@ -91,7 +92,6 @@ def note_supports(log, bodies, env, supports, particles, count, t):
         _log_impulses(log, bodies, env, supports, i, t)
         supports.support[i, 0], supports.support[i, 1] = bodies.support[i], bodies.wedge[i]
         supports.force[i, 0], supports.force[i, 1] = support_forces(bodies, env, i)
-    return log
 
 
 @njit(cache=True, error_model="numpy")
