@@ -56,7 +56,8 @@ Statics.__doc__ = """What bodies meet besides each other: box (4,), segments (m,
 collision map's field (index and map None when the world has none: see statics_paths.py); and
 how contacts respond: restitution e, the rest speed below which a contact rests instead of
 bouncing, the solver's sweeps per step, and the friction coefficient; volumes True for a world
-with polygons, whose frames count the bounding-volume funnel (narrowphase/hierarchy.py), else None."""
+with polygons, whose frames count the bounding-volume funnel (narrowphase/hierarchy.py) and
+whose contact phases compile the polygon paths (narrowphase/manifold.py), else None."""
 Contacts = namedtuple("Contacts", ["found", "rows", "count", "pairs"])
 Contacts.__doc__ = """The contacts the next step starts from, kept from block to block (finding them again at
 each block's start cost a whole broad and narrow phase: a block is one frame at a million
@@ -149,10 +150,10 @@ def _contact_phases(bodies, statics, broad, dt, margin, lo, hi, vertices, moved,
     if found.shape[0] < most:
         found = new_found(most + most // 2)
     in_pair = np.zeros(n, np.bool_)
-    k = pair_manifolds(b, vertices, margin, dt, pairs, found, 0, in_pair, moved)
-    k = wall_manifolds(b, vertices, margin, statics.box, statics.rest_speed, in_pair, found, k)
+    k = pair_manifolds(b, vertices, margin, dt, pairs, found, 0, in_pair, moved, statics.volumes)
+    k = wall_manifolds(b, vertices, margin, statics.box, statics.rest_speed, in_pair, found, k, statics.volumes)
     if near > 0:
-        k = segment_manifolds(b, vertices, margin, statics.segments, found, k)
+        k = segment_manifolds(b, vertices, margin, statics.segments, found, k, statics.volumes)
     if rows.i.shape[0] < 2 * k:   # up to two points a manifold
         rows = new_rows(3 * k)
     count = rows_from(found, k, b, rows)

@@ -18,6 +18,8 @@ vertices (V, 2) the polygons' world vertices this step, body i's in vertices[sta
 """
 import numpy as np
 from numba import njit
+from numba.core import types
+from numba.extending import overload
 
 from ..model.kinds import CIRCLE
 from .circles import circle_circle
@@ -120,3 +122,49 @@ def polygon_segment_manifold(vertices, start, i, segments, k, margin):
     if touching[2] == 0:
         return NONE
     return _given_back(touching, back)
+
+
+# --- compiled only for worlds with polygons ----------------------------------------------------------
+# The engine and contacts() call these with `polygons`: True for a world with polygons, None for
+# a world of circles. Numba picks the implementation by that type when the caller compiles (as
+# engine/statics_paths.py does for segments and maps), so a world of circles compiles none of
+# the polygon paths: the separating axes, the clipping, the half-planes (about 5 s of a first run).
+
+def body_pair_manifold(polygons, shapes, positions, radii, vertices, start, i, j, margin, moved):
+    """pair_manifold; for a world of circles (polygons None), the circles' manifold alone."""
+    raise NotImplementedError("body_pair_manifold is called from compiled code")
+
+
+def body_wall_manifold(polygons, vertices, start, i, box, wall, margin):
+    """polygon_wall_manifold; no contact for a world of circles (it has no polygon)."""
+    raise NotImplementedError("body_wall_manifold is called from compiled code")
+
+
+def body_segment_manifold(polygons, vertices, start, i, segments, k, margin):
+    """polygon_segment_manifold; no contact for a world of circles (it has no polygon)."""
+    raise NotImplementedError("body_segment_manifold is called from compiled code")
+
+
+@overload(body_pair_manifold)
+def _body_pair_manifold(polygons, shapes, positions, radii, vertices, start, i, j, margin, moved):
+    if isinstance(polygons, types.NoneType):
+        return lambda polygons, shapes, positions, radii, vertices, start, i, j, margin, moved: _circles(
+            positions, radii, i, j, margin)
+    return lambda polygons, shapes, positions, radii, vertices, start, i, j, margin, moved: pair_manifold(
+        shapes, positions, radii, vertices, start, i, j, margin, moved)
+
+
+@overload(body_wall_manifold)
+def _body_wall_manifold(polygons, vertices, start, i, box, wall, margin):
+    if isinstance(polygons, types.NoneType):
+        return lambda polygons, vertices, start, i, box, wall, margin: NONE
+    return lambda polygons, vertices, start, i, box, wall, margin: polygon_wall_manifold(
+        vertices, start, i, box, wall, margin)
+
+
+@overload(body_segment_manifold)
+def _body_segment_manifold(polygons, vertices, start, i, segments, k, margin):
+    if isinstance(polygons, types.NoneType):
+        return lambda polygons, vertices, start, i, segments, k, margin: NONE
+    return lambda polygons, vertices, start, i, segments, k, margin: polygon_segment_manifold(
+        vertices, start, i, segments, k, margin)

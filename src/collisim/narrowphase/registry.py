@@ -4,7 +4,8 @@ Box2D keeps such a table (`s_registers[shapeA][shapeB]` in contact.c); here it i
 readers, tests and tools, and compiled dispatchers: `touching` and `contact` for pairs of circles
 (a test checks that every row of the table is dispatched), and narrowphase/manifold.py's
 `pair_manifold`, which the engine calls per candidate pair for every pair of shapes (circles and
-convex polygons, with speculative points), and `contacts` below uses too.
+convex polygons, with speculative points), and `contacts` below uses too (both through
+`body_pair_manifold`, so a world of circles compiles no polygon path).
 
 A contact is (nx, ny, depth, px, py): the unit normal from the first body towards the second,
 the overlap depth (negative when apart) and the contact point.
@@ -14,7 +15,7 @@ from numba import njit
 
 from ..model.kinds import CIRCLE
 from .circles import circle_circle, circles_touch
-from .manifold import pair_manifold
+from .manifold import body_pair_manifold
 from .statics import circle_segment
 
 SHAPE_PAIRS = {(CIRCLE, CIRCLE): (circles_touch, circle_circle)}
@@ -38,8 +39,9 @@ def contact(shapes, positions, radii, i, j):
 
 
 @njit(cache=True)
-def contact_table(shapes, positions, radii, vertices, start, candidates):
-    """One row (i, j, nx, ny, depth, px, py) per contact point of the candidate pairs (k, 2)."""
+def contact_table(shapes, positions, radii, vertices, start, candidates, polygons):
+    """One row (i, j, nx, ny, depth, px, py) per contact point of the candidate pairs (k, 2).
+    polygons: True, or None for a world of circles (which then compiles no polygon path)."""
     most = 1
     for i in range(start.shape[0] - 1):
         most = max(most, start[i + 1] - start[i])
@@ -48,7 +50,7 @@ def contact_table(shapes, positions, radii, vertices, start, candidates):
     count = 0
     for c in range(candidates.shape[0]):
         i, j = candidates[c, 0], candidates[c, 1]
-        m = pair_manifold(shapes, positions, radii, vertices, start, i, j, 0.0, moved)
+        m = body_pair_manifold(polygons, shapes, positions, radii, vertices, start, i, j, 0.0, moved)
         for k in range(m[2]):
             depth, px, py = (m[3], m[4], m[5]) if k == 0 else (m[6], m[7], m[8])
             table[count, 0], table[count, 1], table[count, 2], table[count, 3] = i, j, m[0], m[1]
@@ -66,6 +68,7 @@ def contacts(world, positions=None) -> dict:
     reach = world.radii[:, None]
     candidates = find_pairs("grid", positions - reach, positions + reach)
     vertices = world.placed_vertices(positions)
-    table = contact_table(world.shapes, positions, world.radii, vertices, world.vertex_start, candidates)
+    polygons = True if np.any(world.shapes != CIRCLE) else None
+    table = contact_table(world.shapes, positions, world.radii, vertices, world.vertex_start, candidates, polygons)
     return {"pairs": table[:, :2].astype(np.int64), "normals": table[:, 2:4], "depths": table[:, 4],
             "points": table[:, 5:]}

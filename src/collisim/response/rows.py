@@ -34,7 +34,7 @@ from ..geometry.box import wall_geometry
 from ..geometry.toi import time_to_pair
 from ..geometry.vector import length
 from ..model.kinds import CIRCLE, N_WALLS
-from ..narrowphase.manifold import pair_manifold, polygon_segment_manifold, polygon_wall_manifold
+from ..narrowphase.manifold import body_pair_manifold, body_segment_manifold, body_wall_manifold
 
 SLOP = 0.005   # of the smaller radius: an overlap the solver tolerates between bodies (solver.py)
 MARGIN = 0.01  # of the radius: every body's smallest speculative margin (a resting pile that falls
@@ -125,10 +125,11 @@ def _circles_at_contact(positions, velocities, radii, i, j, dt, m):
 
 
 @njit(cache=True)
-def pair_manifolds(bodies, vertices, margin, dt, pairs, found, k, in_pair, moved):
+def pair_manifolds(bodies, vertices, margin, dt, pairs, found, k, in_pair, moved, polygons):
     """Record after found[:k] the manifolds of pairs (p, 2) (canonical order, i < j) with a point
     closer than the sum of their margins; in_pair (n,) marks their bodies. Returns the new
-    record count. moved: scratch for narrowphase/manifold.py."""
+    record count. moved: scratch for narrowphase/manifold.py; polygons: True, or None for a
+    world of circles, which then compiles no polygon path (manifold.body_pair_manifold)."""
     shapes, positions, velocities, radii = bodies.shapes, bodies.positions, bodies.velocities, bodies.radii
     start = bodies.vertex_start
     for c in range(pairs.shape[0]):
@@ -137,7 +138,7 @@ def pair_manifolds(bodies, vertices, margin, dt, pairs, found, k, in_pair, moved
         dx, dy, apart = positions[j, 0] - positions[i, 0], positions[j, 1] - positions[i, 1], radii[i] + radii[j]
         if dx * dx + dy * dy > (APART * (apart + reach)) ** 2:
             continue   # their bounding circles are farther apart than they can close
-        m = pair_manifold(shapes, positions, radii, vertices, start, i, j, reach, moved)
+        m = body_pair_manifold(polygons, shapes, positions, radii, vertices, start, i, j, reach, moved)
         circles = shapes[i] == CIRCLE and shapes[j] == CIRCLE
         if circles and m[2] == 1 and m[3] < 0.0:
             m = _circles_at_contact(positions, velocities, radii, i, j, dt, m)
@@ -148,10 +149,10 @@ def pair_manifolds(bodies, vertices, margin, dt, pairs, found, k, in_pair, moved
 
 
 @njit(cache=True)
-def wall_manifolds(bodies, vertices, margin, box, rest_speed, in_pair, found, k):
+def wall_manifolds(bodies, vertices, margin, box, rest_speed, in_pair, found, k, polygons):
     """Record after found[:k] the manifolds of bodies held by a box wall (see the module's rule).
-    in_pair (n,) bool: bodies in a pair's manifold. Returns the new record count. No overlap of
-    a wall is tolerated: a wall cannot give way."""
+    in_pair (n,) bool: bodies in a pair's manifold; polygons as for pair_manifolds. Returns the
+    new record count. No overlap of a wall is tolerated: a wall cannot give way."""
     shapes, positions, velocities, radii, start = (bodies.shapes, bodies.positions, bodies.velocities,
                                                    bodies.radii, bodies.vertex_start)
     for i in range(positions.shape[0]):
@@ -161,7 +162,7 @@ def wall_manifolds(bodies, vertices, margin, box, rest_speed, in_pair, found, k)
             if shapes[i] != CIRCLE:
                 if gap > APART * margin[i]:
                     continue
-                m = polygon_wall_manifold(vertices, start, i, box, wall, margin[i])
+                m = body_wall_manifold(polygons, vertices, start, i, box, wall, margin[i])
                 if _reaches(m, margin[i]):
                     k = _record(found, k, i, -1, wall, margin[i], 0.0, m)
                 continue
@@ -177,10 +178,10 @@ def wall_manifolds(bodies, vertices, margin, box, rest_speed, in_pair, found, k)
 
 
 @njit(cache=True)
-def segment_manifolds(bodies, vertices, margin, segments, found, k):
+def segment_manifolds(bodies, vertices, margin, segments, found, k, polygons):
     """Record after found[:k] the manifolds of polygons within their margin of a segment (m, 4):
-    j = -1, wall = N_WALLS + the segment's number. Returns the new record count. A segment, like
-    a wall, cannot give way: no overlap is tolerated."""
+    j = -1, wall = N_WALLS + the segment's number; polygons as for pair_manifolds. Returns the
+    new record count. A segment, like a wall, cannot give way: no overlap is tolerated."""
     shapes, positions, radii, start = bodies.shapes, bodies.positions, bodies.radii, bodies.vertex_start
     for i in range(positions.shape[0]):
         if shapes[i] == CIRCLE:
@@ -189,7 +190,7 @@ def segment_manifolds(bodies, vertices, margin, segments, found, k):
         for s in range(segments.shape[0]):
             if _beyond(segments, s, x, y, reach):
                 continue
-            m = polygon_segment_manifold(vertices, start, i, segments, s, margin[i])
+            m = body_segment_manifold(polygons, vertices, start, i, segments, s, margin[i])
             if _reaches(m, margin[i]):
                 k = _record(found, k, i, -1, N_WALLS + s, margin[i], 0.0, m)
     return k
