@@ -235,8 +235,8 @@ def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, memor
     """Advance bodies in place by out's frame count, each frame `substeps` steps of dt, filling
     out (Frames) and appending every collision to log. memory: the contacts' impulses of the
     step before (response/warmstart.py); contacts: those the next step starts from (Contacts);
-    work: the step's per-body arrays (Work). phase_cycles (8,) int64 receives the cycles per phase and their total. Returns (log, memory,
-    contacts)."""
+    work: the step's per-body arrays (Work). phase_cycles (8,) int64 receives the cycles per
+    phase and their total. Returns (log, memory, contacts)."""
     start = cycles()
     b, s = bodies, statics
     n = b.positions.shape[0]

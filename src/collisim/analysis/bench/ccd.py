@@ -48,8 +48,9 @@ def timed_ccd(scene) -> tuple:
     """(wall seconds, events processed by kind) of one ccd run of the scene, streamed as
     `simulate` streams it (the frames are made and dropped, not kept)."""
     start = time.perf_counter()
-    stepper = METHODS["ccd"](scene.replace(method="ccd"))
-    for _ in stream(scene.replace(method="ccd"), stepper=stepper):
+    scene = scene.replace(method="ccd")
+    stepper = METHODS["ccd"](scene)
+    for _ in stream(scene, stepper=stepper):
         pass
     return time.perf_counter() - start, stepper.events_processed()
 
