@@ -217,3 +217,35 @@ def test_discrete_segment_lets_a_fast_particle_tunnel():
         position += velocity * dt
     assert position[0, 1] < -radius
     assert math.isfinite(time_to_segment(0.0, 5.0, 0.0, -600.0, 0.0, 0.0, radius, *SEGMENT, INF)[0])
+
+
+# --- the quartic's roots (geometry/roots.py) ----------------------------------------------
+
+def _quartic_with_roots(scale, roots):
+    """The 5 coefficients, lowest order first, of scale * prod(t - root)."""
+    c = scale * np.poly(roots)[::-1]
+    return tuple(float(x) for x in c)
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.lists(st.floats(-3.0, 3.0), min_size=4, max_size=4, unique=True), st.floats(0.1, 10.0))
+def test_first_down_crossing_is_the_first_root_where_the_quartic_turns_negative(roots, scale):
+    from collisim.geometry.roots import first_down_crossing
+    roots = sorted(roots)
+    assume(min(b - a for a, b in zip(roots, roots[1:])) > 1e-3)
+    assume(all(abs(r) > 1e-3 and abs(r - 2.5) > 1e-3 for r in roots))   # no root at the interval's ends
+    coeffs = _quartic_with_roots(scale, roots)
+    # p > 0 beyond the largest root, so it goes down through roots[-2] and roots[-4], up through the others
+    down = [r for r in roots[::-1][1::2][::-1] if 0.0 < r <= 2.5]
+    t = first_down_crossing(coeffs, 0.0, 2.5)
+    if down:
+        assert t == pytest.approx(down[0], abs=1e-9)
+    else:
+        assert t == INF
+
+
+def test_first_down_crossing_of_a_double_root_and_of_a_quartic_that_stays_positive():
+    from collisim.geometry.roots import first_down_crossing
+    # (t - 1)² (t² + 1): touches zero at t = 1 without going below; the grazing contact counts
+    assert first_down_crossing(_quartic_with_roots(1.0, [1.0, 1.0, 1j, -1j]), 0.0, 5.0) == pytest.approx(1.0, abs=1e-7)
+    assert first_down_crossing((1.0, 0.0, 1.0, 0.0, 1.0), 0.0, 5.0) == INF   # 1 + t² + t⁴ > 0

@@ -32,7 +32,7 @@ Numerical care, which is most of the art:
 * For pairs, b² - ac equals a·R² - (Δp × Δv)² (Lagrange's identity), which keeps
   the grazing classification exact: it is |Δv|² (R² - impact parameter²).
 * With acceleration, the distance to a point (a segment's cap, or a circle whose
-  acceleration differs, e.g. one resting on the floor) is a quartic; polyroots
+  acceleration differs, e.g. one resting on the floor) is a quartic; roots.py
   isolates its real roots without a closed formula.
 """
 import math
@@ -121,14 +121,12 @@ def time_to_pair(dx, dy, dvx, dvy, rsum, t_max):
 
 @njit(cache=True, error_model="numpy")
 def contact_quartic(dx, dy, vx, vy, ax, ay, dist):
-    """Coefficients (5,) of |d + v t + ½ a t²|² - dist², lowest order first."""
-    return np.array([
-        dx * dx + dy * dy - dist * dist,
-        2.0 * (dx * vx + dy * vy),
-        vx * vx + vy * vy + dx * ax + dy * ay,
-        vx * ax + vy * ay,
-        0.25 * (ax * ax + ay * ay),
-    ])
+    """The 5 coefficients of |d + v t + ½ a t²|² - dist², lowest order first (roots.py)."""
+    return (dx * dx + dy * dy - dist * dist,
+            2.0 * (dx * vx + dy * vy),
+            vx * vx + vy * vy + dx * ax + dy * ay,
+            vx * ax + vy * ay,
+            0.25 * (ax * ax + ay * ay))
 
 
 @njit(cache=True, error_model="numpy")
@@ -139,7 +137,7 @@ def time_to_point(dx, dy, vx, vy, ax, ay, dist, t_max):
     Without acceleration this is time_to_pair (closed form). With it, the squared
     distance minus dist² is a quartic f(t); the impact is its first downward zero
     crossing, found by monotone-piece isolation and a bracketed Newton search
-    (polyroots) on [0, t_max] — capped by Cauchy's bound on the roots, beyond
+    (roots.py) on [0, t_max] — capped by Cauchy's bound on the roots, beyond
     which f > 0.
     """
     if ax == 0.0 and ay == 0.0:  # pairs under one uniform gravity: the common case, in closed form
@@ -152,7 +150,7 @@ def time_to_point(dx, dy, vx, vy, ax, ay, dist, t_max):
     # Overlapping but not closing in: treat the overlap as touching (it is rounding,
     # or an initial overlap), so the impact is when the distance comes back to what
     # it is now, instead of the two sinking into each other.
-    coeffs[0] = max(coeffs[0], 0.0)
+    coeffs = (max(coeffs[0], 0.0), coeffs[1], coeffs[2], coeffs[3], coeffs[4])
     root_bound = 1.0 + max(max(abs(coeffs[0]), abs(coeffs[1])), max(abs(coeffs[2]), abs(coeffs[3]))) / coeffs[4]
     t_hi = min(t_max, root_bound)
     # Cheap rejection: even heading straight for the point, it cannot get there.

@@ -28,14 +28,13 @@ from ...broadphase.cells import cell_bounds, is_apart, reach_block
 
 @njit(cache=True, error_model="numpy")
 def _point_impact(dx, dy, vx, vy, ax, ay, dist, t_max):
-    """toi.time_to_point, for the per-event predictions. Its quartic allocates a few small
-    arrays, so numba compiles it as a call that may raise (MemoryError), and a function that
-    makes such a call increfs every array of the namedtuples it was given on entry and decrefs
-    them on return (the reference-count pruning cannot pair them across the error path): in
-    predict_pairs that was 56 counter updates per call, more than the arithmetic of the pairs.
-    Catching here makes the call one that cannot raise. The only error it can hide is running
-    out of memory for five floats, which would end the run a moment later anyway; it reads as
-    no impact."""
+    """toi.time_to_point, for the per-event predictions, as a call numba knows cannot raise.
+    A function that makes a call which may raise increfs every array of the namedtuples it was
+    given on entry and decrefs them on return (the reference-count pruning cannot pair them
+    across the error path): in predict_pairs that was 56 counter updates per call, more than
+    the arithmetic of the pairs. The root finder allocates nothing and raises nothing
+    (geometry/roots.py), so the `except` is never taken; it is what tells numba so (a settling bed:
+    19.8-21.1 us per event without it, 18.3-19.7 us with it)."""
     try:
         return time_to_point(dx, dy, vx, vy, ax, ay, dist, t_max)
     except Exception:
@@ -44,7 +43,7 @@ def _point_impact(dx, dy, vx, vy, ax, ay, dist, t_max):
 
 @njit(cache=True, error_model="numpy")
 def _segment_impact(px, py, vx, vy, ax, ay, r, x0, y0, x1, y1, t_max):
-    """toi.time_to_segment's impact time, caught as in _point_impact for the same reason."""
+    """toi.time_to_segment's impact time, as a call that cannot raise (see _point_impact)."""
     try:
         return time_to_segment(px, py, vx, vy, ax, ay, r, x0, y0, x1, y1, t_max)[0]
     except Exception:
