@@ -42,14 +42,14 @@ may raise or touch reference counts — then a call costs nothing but its
 arguments. Measured in the compiled code (2026-11): predict_solo made 110 such
 counter updates a call, collect_collisions 104, predict_pairs 56, _apply (once
 per contact and sweep) 68 — most of an event's time. What stops the pruning:
-(1) a callee that may raise: allocating (the log and the queue growing, the
-quartic root finder), fancy indexing, indexing a tuple with a variable; (2) a
+(1) a callee that may raise: allocating (the log and the queue growing), fancy
+indexing, indexing a tuple with a variable; (2) a
 namedtuple whose last use is inside a branch (only on some paths); (3) a callee
 that itself keeps counters. So the functions run at every event read what they
 need out of a tuple before branching (bodies.rests_on, eventqueue.is_current,
 predict.predict_solo), use each tuple last outside any branch (resolve._apply,
 _add), leave allocating to run (with_room before record_contacts and
-note_supports), catch the impact times' allocation errors (predict._point_impact),
+note_supports), wrap the impact times in calls that cannot raise (predict._point_impact),
 write the pair test once in its loop (predict.predict_pairs), and skip calls that
 would do nothing (doze in a gas, waking a pair that is not asleep).
 """
@@ -296,7 +296,7 @@ def run(loop, frame_dt, first, count, budget, positions, velocities, counts, ove
                 solve_contacts(bodies, contacts)
                 settle_resting(bodies, env, contacts)
                 if may_sleep:
-                    doze(bodies, grid, env, involved, n_involved, t)
+                    doze(bodies, grid, env, contacts, involved, n_involved, t)
                 mark_hits(bodies, contacts, t)
                 log = with_room(log, contacts.count[0])
                 record_contacts(log, contacts, t, counts[row], tally)

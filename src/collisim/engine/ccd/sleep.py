@@ -10,9 +10,12 @@ event-driven granular codes do, a body that is held still is frozen ("asleep"):
   *cradled*: gravity is balanced by non-negative pushes from what it touches — the walls and
   segments it rests on (bodies.py), those it touches that gravity does not press it into (a
   ball pressed into a side wall by the ball under it is held), and the bodies already asleep,
-  all within SLEEP_GAP × its radius. A floor or a slope counts only once the body rests on it:
-  a ball still bouncing on the floor would otherwise freeze up to SLEEP_GAP × r in the air,
-  and its weight would never reach the floor (support.py). For frictionless disks that
+  all within SLEEP_GAP × its radius. A floor or a slope counts only once the body rests on it,
+  or at the instant it hits it: a ball still bouncing on the floor would otherwise freeze up
+  to SLEEP_GAP × r in the air, and its weight would never reach the floor (support.py). One
+  that falls asleep as it hits a floor or a slope rests on it, exactly on it (a ball squeezed
+  between the floor and a sleeper above would otherwise rattle between the two, thousands of
+  times a frame, until the event budget ran out). For frictionless disks that
   means -g lies in the cone of those contact normals: one support straight under it, or two
   on either side of the vertical. This is tested right after each collision of a slow body and,
   for every body, at each frame time; a pile thus falls asleep from the floor up.
@@ -51,9 +54,9 @@ from numba import njit
 
 from ...geometry.box import wall_geometry
 from ...geometry.segment import segment_contact
-from ...model.kinds import N_WALLS
+from ...model.kinds import N_WALLS, PAIR, WALL
 from ...broadphase.cells import is_apart, reach_block
-from .bodies import advance, fall_asleep, position_at, rests_on, velocity_at, wake
+from .bodies import REST_HEIGHT, advance, fall_asleep, position_at, rest_on, rests_on, velocity_at, wake
 
 # A support this fraction of the radius away (or closer) counts as touching.
 SLEEP_GAP = 1e-3
@@ -89,9 +92,11 @@ def _widen(ux, uy, nx, ny, right, left):
 
 
 @njit(cache=True, error_model="numpy")
-def cradled(bodies, grid, env, i, t):
+def cradled(bodies, grid, env, i, t, hitting):
     """Is particle i at time t held against gravity by the walls, segments and sleeping bodies
-    it touches (to within SLEEP_GAP of its radius)? See the module docstring."""
+    it touches (to within SLEEP_GAP of its radius)? See the module docstring. hitting: i has
+    just collided, so a wall or segment it is on (to within REST_HEIGHT of its radius: the one
+    it hit) counts whether or not it rests there."""
     gravity = math.hypot(env.gravity[0], env.gravity[1])
     if gravity == 0.0:
         return False
@@ -103,7 +108,8 @@ def cradled(bodies, grid, env, i, t):
     for wall in range(N_WALLS):   # a wall it touches pushes it along the wall's normal
         axis, bound, inward = wall_geometry(env.box, wall, r)
         nx, ny = (inward, 0.0) if axis == 0 else (0.0, inward)
-        if rests_on(bodies, i, wall) or (abs((x, y)[axis] - bound) <= gap and nx * ux + ny * uy <= 0.0):
+        off = abs((x, y)[axis] - bound)
+        if rests_on(bodies, i, wall) or (hitting and off <= REST_HEIGHT * r) or (off <= gap and nx * ux + ny * uy <= 0.0):
             right, left = _widen(ux, uy, nx, ny, right, left)
     c = grid.cell[i]
     apart = is_apart(grid, i)
@@ -111,7 +117,8 @@ def cradled(bodies, grid, env, i, t):
     for k in range(first, last):
         segment = k if apart else grid.segment_index[k]
         nx, ny, distance = segment_contact(x, y, env.segments[segment])[:3]
-        if rests_on(bodies, i, N_WALLS + segment) or (distance - r <= gap and nx * ux + ny * uy <= 0.0):
+        if rests_on(bodies, i, N_WALLS + segment) or (hitting and distance - r <= REST_HEIGHT * r) or \
+                (distance - r <= gap and nx * ux + ny * uy <= 0.0):
             right, left = _widen(ux, uy, nx, ny, right, left)
     cx_lo, cx_hi, cy_lo, cy_hi = reach_block(grid, c, grid.reach[i])
     for cy in range(cy_lo, cy_hi):
@@ -126,6 +133,25 @@ def cradled(bodies, grid, env, i, t):
         if j != i and bodies.asleep[j]:
             right, left = _support_of(bodies, i, j, x, y, ux, uy, right, left)
     return right >= -UPRIGHT or left <= UPRIGHT or left - right < math.pi
+
+
+@njit(cache=True, error_model="numpy")
+def _sleep_on_what_it_hits(bodies, env, contacts, i):
+    """Particle i (current, just collided) falls asleep. On each wall or segment it has just hit
+    that gravity presses it into, it rests too: the support then carries its weight (support.py)
+    and it wakes resting there (bodies.wake). The rebound it is not given comes off that
+    contact's impulse, as when a bounce too small to matter ends in resting (resolve.py)."""
+    gx, gy = env.gravity[0], env.gravity[1]
+    for k in range(contacts.count[0]):
+        if contacts.i[k] != i or contacts.kind[k] == PAIR:
+            continue
+        nx, ny = -contacts.nx[k], -contacts.ny[k]   # from the obstacle towards the particle
+        if gx * nx + gy * ny < 0.0:
+            rebound = bodies.vel[i, 0] * nx + bodies.vel[i, 1] * ny
+            contacts.impulse[k] -= bodies.mass[i] * max(rebound, 0.0)
+            support = contacts.other[k] if contacts.kind[k] == WALL else N_WALLS + contacts.other[k]
+            rest_on(bodies, env, i, support, nx, ny)
+    fall_asleep(bodies, i)
 
 
 @njit(cache=True, error_model="numpy")
@@ -146,15 +172,15 @@ def slow(bodies, env, i, t):
 
 
 @njit(cache=True, error_model="numpy")
-def doze(bodies, grid, env, particles, count, t):
+def doze(bodies, grid, env, contacts, particles, count, t):
     """Put to sleep those of particles[:count] (current at t, just collided) that are cradled
     and slow, or jammed: hit again at the same instant (last_hit == t, before this collision
     is marked), as a body wedged between two supports into which it keeps falling."""
     for k in range(count):
         i = particles[k]
         if not bodies.asleep[i] and env.rest_speed[i] > 0.0 and (bodies.last_hit[i] == t or slow(bodies, env, i, t)) \
-                and cradled(bodies, grid, env, i, t):
-            fall_asleep(bodies, i)
+                and cradled(bodies, grid, env, i, t, True):
+            _sleep_on_what_it_hits(bodies, env, contacts, i)
 
 
 @njit(cache=True, error_model="numpy")
@@ -173,7 +199,7 @@ def doze_all(bodies, grid, env, t, fell):
             continue
         bodies.slow_since[i] = min(bodies.slow_since[i], t)
         carried = gravity > 0.0 and t - bodies.slow_since[i] >= SLOW_SPEEDS * env.rest_speed[i] / gravity
-        if (carried and touches_a_body(bodies, grid, i, t)) or cradled(bodies, grid, env, i, t):
+        if (carried and touches_a_body(bodies, grid, i, t)) or cradled(bodies, grid, env, i, t, False):
             advance(bodies, i, t)
             fall_asleep(bodies, i)
             fell[count] = i
