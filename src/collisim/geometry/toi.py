@@ -153,11 +153,24 @@ def time_to_point(dx, dy, vx, vy, ax, ay, dist, t_max):
     coeffs = (max(coeffs[0], 0.0), coeffs[1], coeffs[2], coeffs[3], coeffs[4])
     root_bound = 1.0 + max(max(abs(coeffs[0]), abs(coeffs[1])), max(abs(coeffs[2]), abs(coeffs[3]))) / coeffs[4]
     t_hi = min(t_max, root_bound)
-    # Cheap rejection: even heading straight for the point, it cannot get there.
-    closest = math.hypot(dx, dy) - math.hypot(vx, vy) * t_hi - 0.5 * math.hypot(ax, ay) * t_hi * t_hi
-    if closest > dist:
+    # Cheap rejections: even heading straight for the point, it cannot get there; or its
+    # distance along the line it starts on (a lower bound of the distance) stays above dist
+    # (a body beside or below another under gravity, or moving away from it).
+    distance = math.hypot(dx, dy)
+    closest = distance - math.hypot(vx, vy) * t_hi - 0.5 * math.hypot(ax, ay) * t_hi * t_hi
+    if closest > dist or _stays_beyond(distance, (dx * vx + dy * vy) / distance, (dx * ax + dy * ay) / distance,
+                                       dist * (1.0 + 1e-12), t_hi):
         return np.inf
     return first_down_crossing(coeffs, 0.0, t_hi)
+
+
+@njit(cache=True, error_model="numpy")
+def _stays_beyond(s, s_rate, s_acc, bound, t_hi):
+    """Does s + s_rate t + ½ s_acc t² stay above bound for every t in [0, t_hi]?"""
+    lowest = min(s, s + (s_rate + 0.5 * s_acc * t_hi) * t_hi)
+    if s_acc > 0.0 and 0.0 < -s_rate / s_acc < t_hi:   # a minimum inside: at the vertex
+        lowest = s - 0.5 * s_rate * s_rate / s_acc
+    return lowest > bound
 
 
 @njit(cache=True, error_model="numpy")
