@@ -15,8 +15,8 @@ from collisim.render.player import draw_frame, make_players
 G = 9.81
 
 
-def ccd(positions, radius=0.5, restitution=0.5, seconds=3.0, segments=None, velocities=None):
-    world = collisim.World(positions=positions, velocities=velocities, radii=radius, box=(0, 0, 10, 10),
+def ccd(positions, radius=0.5, restitution=0.5, seconds=3.0, segments=None, velocities=None, box=(0, 0, 10, 10)):
+    world = collisim.World(positions=positions, velocities=velocities, radii=radius, box=box,
                            gravity=(0, -G), restitution=restitution, segments=segments)
     return world, collisim.simulate(collisim.Scene(world=world, fps=60, seconds=seconds, method="ccd"))
 
@@ -189,3 +189,39 @@ def test_an_inelastic_pile_of_sixty_leaning_on_each_other_falls_asleep():
     assert not traj.approximate.any()
     assert np.all(traj.velocities[150:] == 0.0) and np.all(traj.positions[150:] == traj.positions[-1])
     assert largest_overlap(traj) < 1e-9
+
+
+def _support_per_frame(traj, frame):
+    """The SUPPORT impulse each wall gave during frame `frame`, as a force (impulse × fps)."""
+    ev = traj.events
+    during = (ev.time > traj.times[frame - 1]) & (ev.time <= traj.times[frame]) & (ev.kind == SUPPORT)
+    return np.array([ev.impulse[during & (ev.j == wall)].sum() for wall in range(N_WALLS)]) / (traj.times[1] - traj.times[0])
+
+
+def test_a_sleeping_pile_gives_the_floor_its_whole_weight():
+    """Rows of 5, 4, 5 and 4 balls in a box 5 diameters wide fall asleep; the floor then carries
+    all 18, not only the bottom row (the weight of the rows above is carried down, carried.py),
+    and the side walls push equally."""
+    r = 0.5
+    positions = [[r + 2 * r * c + (r if row % 2 else 0.0), r + row * (math.sqrt(3) * r + 0.02)]
+                 for row in range(4) for c in range(5 - row % 2)]
+    world, traj = ccd(positions, radius=r, restitution=0.5, seconds=3.0, box=(0, 0, 5, 8))
+    weight = world.masses.sum() * G
+    assert np.all(traj.velocities[90:] == 0.0) and not traj.approximate.any()
+    for frame in (100, 150, 180):
+        left, right, floor, top = _support_per_frame(traj, frame)
+        assert floor == pytest.approx(weight, rel=1e-9) and top == 0.0
+        assert left == pytest.approx(right, rel=1e-9) and left > 0.0
+
+
+def test_a_ball_asleep_in_a_cradle_pushes_the_walls_apart_by_the_statics_of_its_two_supports():
+    """A ball asleep on two that fill a box two diameters wide: each lower ball takes m g / (2 cos 30°)
+    along the line of centres, so the floor carries 3 m g and each wall m g tan 30° / 2."""
+    r = 0.5
+    world, traj = ccd([[0.5, r], [1.5, r], [1.0, r + math.sqrt(3) * r + 0.05]], radius=r, seconds=2.0, box=(0, 0, 2, 10))
+    assert np.all(traj.velocities[60:] == 0.0)
+    m = world.masses[0]
+    left, right, floor, top = _support_per_frame(traj, 100)
+    assert floor == pytest.approx(3 * m * G, rel=1e-9)
+    assert left == pytest.approx(m * G * math.tan(math.pi / 6) / 2, rel=1e-9)
+    assert right == pytest.approx(left, rel=1e-12)

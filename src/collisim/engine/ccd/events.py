@@ -68,6 +68,7 @@ from .fallback import skip_to_frame
 from ...broadphase.cells import assign_all, make_grid, move
 from .predict import predict_pairs, predict_solo
 from .support import log_frame_supports, new_supports, note_supports
+from .carried import carry_sleepers, note_sleepers, take_hits
 from .sleep import default_rest_speed, doze, doze_all, wake_up
 from ...geometry.circle import line_of_centres
 from .resolve import (add_pair_contact, add_segment_contact, add_wall_contact, mark_hits, new_contacts,
@@ -297,6 +298,7 @@ def run(loop, frame_dt, first, count, budget, positions, velocities, counts, ove
                 settle_resting(bodies, env, contacts)
                 if may_sleep:
                     doze(bodies, grid, env, contacts, involved, n_involved, t)
+                    take_hits(supports, contacts)
                 mark_hits(bodies, contacts, t)
                 log = with_room(log, contacts.count[0])
                 record_contacts(log, contacts, t, counts[row], tally)
@@ -306,7 +308,9 @@ def run(loop, frame_dt, first, count, budget, positions, velocities, counts, ove
                 tally[kind] += 1
                 involved[0], n_involved = i, 1
                 processed += 1
-            log = with_room(log, 2 * n_involved)
+            log = with_room(log, 4 * n_involved)
+            if may_sleep:
+                note_sleepers(log, bodies, grid, env, supports, involved, n_involved, t)
             note_supports(log, bodies, env, supports, involved, n_involved, t)
             queue = reschedule(bodies, grid, env, queue, involved, n_involved, t, t_end, base, done)
         log = log_frame_supports(log, bodies, env, supports, t_frame)
@@ -314,6 +318,8 @@ def run(loop, frame_dt, first, count, budget, positions, velocities, counts, ove
             skip_to_frame(bodies, env, t_last, t_frame)
             queue = schedule_all(bodies, grid, env, queue, t_frame, t_end, base, done)
         fell = doze_all(bodies, grid, env, t_frame, involved)
+        if may_sleep:
+            log = carry_sleepers(log, bodies, grid, env, supports, t_frame)
         if fell:
             queue = reschedule(bodies, grid, env, queue, involved, fell, t_frame, t_end, base, done)
         sample(bodies, t_frame, positions[row], velocities[row])

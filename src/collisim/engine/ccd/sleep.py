@@ -39,9 +39,9 @@ Status: ON BY DEFAULT under gravity when e < 1 (default_rest_speed); rest_speed 
 off; without gravity or with e = 1 the default is 0, so gases run byte for byte as before.
 Measured (benchmarks/ccd_settling.py): the settling particles_250 gas (e = 0.8, default rest
 speed) costs 1.5x the discrete method per simulated second, memory flat, no frame over the
-budget, overlaps ~1e-14 r. Known limits: (1) a sleeper that does not rest on a wall or segment
-itself passes no weight to them: the wall pressure of a sleeping pile counts only its bottom
-layer's weight; (2) piles freeze looser than hexagonal close packing: +6.6 and +9.2 % in height
+budget, overlaps ~1e-14 r. A sleeper's weight goes on to the walls through the pile under it
+(carried.py), so a sleeping pile presses the floor with all its weight. Known limit: piles
+freeze looser than hexagonal close packing: +6.6 and +9.2 % in height
 for 200 balls, e = 0, dropped at random (seeds 1 and 2), against +4.7 and +4.8 % for pymunk
 (frictionless, 10 substeps) and +7.4 and +6.9 % for the discrete method on the same drops; the
 bottom row freezes with gaps, because a sleeper pushed aside slower than its rest speed stays a

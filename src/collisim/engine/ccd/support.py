@@ -24,15 +24,18 @@ from ...model.kinds import N_WALLS, SUPPORT
 from ..eventlog import append, with_room
 from .bodies import FREE, position_at
 
-Supports = namedtuple("Supports", ["support", "force", "since"])
+Supports = namedtuple("Supports", ["support", "force", "since", "sleeping", "load"])
 Supports.__doc__ = """What the supports of each body push with, as last recorded: support (n, 2)
 int64 the supports (as Bodies.support and wedge, FREE for none); force (n, 2) their normal
-forces; since (n,) the time from which their impulse is not logged yet."""
+forces; since (n,) the time from which their impulse (or, asleep, its weight) is not logged
+yet. sleeping (n,) bool: asleep as far as the log knows, its weight carried down the pile
+instead (carried.py); load (n, 2): the impulse a sleeper has yet to pass on to its supports."""
 
 
 def new_supports(n):
     """No body resting, at t = 0."""
-    return Supports(np.full((n, 2), FREE, np.int64), np.zeros((n, 2)), np.zeros(n))
+    return Supports(np.full((n, 2), FREE, np.int64), np.zeros((n, 2)), np.zeros(n), np.zeros(n, np.bool_),
+                    np.zeros((n, 2)))
 
 
 @njit(cache=True, error_model="numpy")
@@ -65,7 +68,7 @@ def support_forces(bodies, env, i):
 
 
 @njit(cache=True, error_model="numpy")
-def _log_impulses(log, bodies, env, supports, i, t):
+def log_impulses(log, bodies, env, supports, i, t):
     """Log the impulse particle i's recorded supports gave it since `since`, up to t."""
     duration = t - supports.since[i]
     for k in range(2):
@@ -87,22 +90,24 @@ def note_supports(log, bodies, env, supports, particles, count, t):
     at every event (events.run)."""
     for k in range(count):
         i = particles[k]
-        if bodies.support[i] == supports.support[i, 0] and bodies.wedge[i] == supports.support[i, 1]:
-            continue
-        _log_impulses(log, bodies, env, supports, i, t)
+        if supports.sleeping[i] or (bodies.support[i] == supports.support[i, 0]
+                                    and bodies.wedge[i] == supports.support[i, 1]):
+            continue   # unchanged, or asleep: its weight is carried (carried.py)
+        log_impulses(log, bodies, env, supports, i, t)
         supports.support[i, 0], supports.support[i, 1] = bodies.support[i], bodies.wedge[i]
         supports.force[i, 0], supports.force[i, 1] = support_forces(bodies, env, i)
 
 
 @njit(cache=True, error_model="numpy")
 def log_frame_supports(log, bodies, env, supports, t):
-    """At a frame time: log what every resting particle's supports gave it since last logged."""
+    """At a frame time: log what every resting particle's supports gave it since last logged
+    (not the sleepers': their weight is carried, carried.py)."""
     n = bodies.radius.shape[0]
     resting = 0
     for i in range(n):
-        resting += supports.support[i, 0] != FREE
+        resting += supports.support[i, 0] != FREE and not supports.sleeping[i]
     log = with_room(log, 2 * resting)
     for i in range(n):
-        if supports.support[i, 0] != FREE:
-            _log_impulses(log, bodies, env, supports, i, t)
+        if supports.support[i, 0] != FREE and not supports.sleeping[i]:
+            log_impulses(log, bodies, env, supports, i, t)
     return log
