@@ -189,6 +189,10 @@ def test_an_inelastic_pile_of_sixty_leaning_on_each_other_falls_asleep():
     assert not traj.approximate.any()
     assert np.all(traj.velocities[150:] == 0.0) and np.all(traj.positions[150:] == traj.positions[-1])
     assert largest_overlap(traj) < 1e-9
+    # asleep, the whole pile weighs on the floor (carried.py), leaning balls and all
+    weight = world.masses.sum() * G
+    for frame in (160, 180):
+        assert _support_per_frame(traj, frame)[2] == pytest.approx(weight, rel=1e-9)
 
 
 def _support_per_frame(traj, frame):

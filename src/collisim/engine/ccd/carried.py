@@ -9,16 +9,21 @@ At every frame time the loads go down the pile, from the highest sleeper to the 
 sleeper splits its load between the two of its supports whose normals lie nearest the load's
 direction on either side of it — the walls, segments and lower sleeping bodies it touches
 (within sleep.SLEEP_GAP of its radius) — by the same two-support statics as a body wedged on
-two walls (support.py): N_a a + N_b b = -load. A wall or a segment logs what it gets as a
+two walls (support.py): N_a a + N_b b = -load. Only lower bodies support a sleeper, so loads
+only go down and one pass from the top carries them all. A wall or a segment logs what it gets as a
 kinds.SUPPORT event of the sleeper touching it; a sleeping body adds the reaction to its own
 load, to pass on in turn. A body that wakes hands what it owes to its supports the same way,
 at that instant, before it moves. So a still pile gives the floor its whole weight, m·g·dt
 per body and frame, and its pressure on the side walls where it leans on them.
 
-Exact wherever each sleeper's load lies between two of its supports, as in a settled pile.
-A load that no two supports enclose (a sleeper frozen leaning on a body still awake) goes to
-the support nearest its direction, along that support's normal; a sleeper with no sleeping
-support keeps its load until it has one, or wakes.
+The vertical is exact: everything asleep weighs on the walls and segments under it, every
+frame (the settled particles_250 gas under gravity: the floor carries its whole weight to
+1e-13). The sideways pushes are one equilibrium among many: frictionless bodies side by side
+may also press each other and the walls harder (statically indeterminate), and a sleeper
+frozen off balance (a load no two of its supports enclose: it leans on a body at its own
+height, or one still awake) hands its weight to the support that holds it up best, along
+that support's normal, and its sideways imbalance to nobody. A sleeper with no support
+asleep or fixed keeps its load until it has one, or wakes.
 """
 import math
 
@@ -43,6 +48,7 @@ def take_hits(supports, contacts):
     for k in range(contacts.count[0]):
         if contacts.kind[k] == PAIR and contacts.j[k] < 0:
             sleeper = contacts.other[k]
+            supports.state[1] = 1
             supports.load[sleeper, 0] += contacts.impulse[k] * contacts.nx[k]
             supports.load[sleeper, 1] += contacts.impulse[k] * contacts.ny[k]
 
@@ -122,40 +128,62 @@ def _supports_of(bodies, grid, env, supports, i, ux, uy):
 def _deliver(log, bodies, env, supports, i, t, support, nx, ny, push):
     """Support `support` pushes sleeper i along its normal n with impulse `push`: a wall or a
     segment logs it, a sleeping body takes the reaction into its load."""
-    if not push > 0.0:
-        return
     bodies_from = N_WALLS + env.segments.shape[0]
-    if support < bodies_from:
+    if support < bodies_from and push > 0.0:
         r = bodies.radius[i]
         append(log, t, SUPPORT, i, support, push, bodies.pos[i, 0] - r * nx, bodies.pos[i, 1] - r * ny)
-    else:
+    elif support >= bodies_from:
         supports.load[support - bodies_from, 0] -= push * nx
         supports.load[support - bodies_from, 1] -= push * ny
 
 
 @njit(cache=True, error_model="numpy")
-def pass_on(log, bodies, grid, env, supports, i, t):
-    """Split sleeper i's load between its supports (module docstring); its load is then 0, or
-    kept whole if nothing sleeping or fixed supports it. The caller makes room for 2 events."""
+def _choose(bodies, grid, env, supports, i):
+    """Which supports carry sleeper i's present load, and along which normals: (a, ax, ay, b,
+    bx, by): two enclosing it (Cramer's rule), or b = NONE for a (its nearest) alone, or a = NONE
+    for none at all."""
     fx, fy = -supports.load[i, 0], -supports.load[i, 1]   # what the supports must push with
     force = math.sqrt(fx * fx + fy * fy)
     if force == 0.0:
-        return
+        return NONE, 0.0, 0.0, NONE, 0.0, 0.0
     left, right = _supports_of(bodies, grid, env, supports, i, fx / force, fy / force)
-    if left[1] == NONE and right[1] == NONE:
-        return
-    supports.load[i, 0] = supports.load[i, 1] = 0.0
     a, b = right, left
-    enclosed = a[1] != NONE and b[1] != NONE and b[0] - a[0] < math.pi
-    if enclosed and min(-a[0], b[0]) > UPRIGHT:   # N_a a + N_b b = f: Cramer's rule
-        determinant = a[2] * b[3] - a[3] * b[2]
-        _deliver(log, bodies, env, supports, i, t, a[1], a[2], a[3], (fx * b[3] - fy * b[2]) / determinant)
-        _deliver(log, bodies, env, supports, i, t, b[1], b[2], b[3], (a[2] * fy - a[3] * fx) / determinant)
+    if a[1] != NONE and b[1] != NONE and b[0] - a[0] < math.pi and min(-a[0], b[0]) > UPRIGHT:
+        return a[1], a[2], a[3], b[1], b[2], b[3]
+    # Not enclosed (a body frozen off balance, or upright on one support): the one that holds it
+    # up best carries its weight, the part of the load along gravity, whole (_split)
+    gx, gy = env.gravity[0], env.gravity[1]
+    up_a = -(a[2] * gx + a[3] * gy) if a[1] != NONE else 0.0
+    up_b = -(b[2] * gx + b[3] * gy) if b[1] != NONE else 0.0
+    if max(up_a, up_b) <= 0.0:
+        return NONE, 0.0, 0.0, NONE, 0.0, 0.0
+    best = a if up_a >= up_b else b
+    return best[1], best[2], best[3], NONE, 0.0, 0.0
+
+
+@njit(cache=True, error_model="numpy")
+def _split(log, bodies, env, supports, i, t, a, ax, ay, b, bx, by):
+    """Pass sleeper i's load on to supports a and b (as _choose gives them); its load is then 0,
+    or kept whole if it has no support."""
+    if a == NONE:
         return
-    nearest = a if b[1] == NONE or (a[1] != NONE and -a[0] <= b[0]) else b
-    _deliver(log, bodies, env, supports, i, t, nearest[1], nearest[2], nearest[3], fx * nearest[2] + fy * nearest[3])
+    fx, fy = -supports.load[i, 0], -supports.load[i, 1]
+    supports.load[i, 0] = supports.load[i, 1] = 0.0
+    if b == NONE:   # along a's normal, as much as holds the load's part along gravity
+        gx, gy = env.gravity[0], env.gravity[1]
+        _deliver(log, bodies, env, supports, i, t, a, ax, ay, (fx * gx + fy * gy) / (ax * gx + ay * gy))
+        return
+    determinant = ax * by - ay * bx   # N_a a + N_b b = f: Cramer's rule
+    _deliver(log, bodies, env, supports, i, t, a, ax, ay, (fx * by - fy * bx) / determinant)
+    _deliver(log, bodies, env, supports, i, t, b, bx, by, (ax * fy - ay * fx) / determinant)
 
 
+@njit(cache=True, error_model="numpy")
+def pass_on(log, bodies, grid, env, supports, i, t):
+    """Split sleeper i's load between its supports (module docstring). The caller makes room
+    for 2 events."""
+    a, ax, ay, b, bx, by = _choose(bodies, grid, env, supports, i)
+    _split(log, bodies, env, supports, i, t, a, ax, ay, b, bx, by)
 @njit(cache=True, error_model="numpy")
 def note_sleepers(log, bodies, grid, env, supports, particles, count, t):
     """After an event at t involving particles[:count]: those that fell asleep start being
@@ -164,6 +192,7 @@ def note_sleepers(log, bodies, grid, env, supports, particles, count, t):
     for k in range(count - 1, -1, -1):
         i = particles[k]
         if supports.sleeping[i] and not bodies.asleep[i]:
+            supports.state[1] = 1   # the loads change: carry_sleepers chooses the supports again
             _owe_weight(bodies, env, supports, i, t)
             pass_on(log, bodies, grid, env, supports, i, t)
             supports.load[i, 0] = supports.load[i, 1] = 0.0
@@ -171,29 +200,53 @@ def note_sleepers(log, bodies, grid, env, supports, particles, count, t):
     for k in range(count):
         i = particles[k]
         if bodies.asleep[i] and not supports.sleeping[i]:
+            supports.state[1] = 1
             _enter(log, bodies, env, supports, i, t)
 
 
 @njit(cache=True, error_model="numpy")
 def carry_sleepers(log, bodies, grid, env, supports, t):
     """At a frame time: every sleeper's weight since last carried joins its load, and the loads
-    go down the pile, highest sleeper first. Returns the log (with room made)."""
-    count = 0
-    for i in range(bodies.radius.shape[0]):
-        count += bodies.asleep[i]
-    if count == 0:
-        return log
+    go down the pile, highest sleeper first. Returns the log (with room made).
+
+    Which supports carry each sleeper is kept (Supports.plan): while no body falls asleep or
+    wakes and no sleeper is hit, every load is its weight times the frame's duration plus the
+    same shares of the same loads above, so the choice is the same and only the arithmetic is
+    redone — a settled pile costs a few operations per body and frame."""
+    state, order = supports.state, supports.order
+    replay = state[1] == 0 and state[2] == 1
+    count = state[0]
+    if not replay:
+        count = 0
+        for i in range(bodies.radius.shape[0]):
+            count += bodies.asleep[i]
     log = with_room(log, 4 * count)
-    sleepers, height = np.empty(count, np.int64), np.empty(count)
-    count = 0
+    if replay:
+        for k in range(count):
+            _owe_weight(bodies, env, supports, order[k], t)
+        for k in range(count):
+            i = order[k]
+            _split(log, bodies, env, supports, i, t, supports.plan[i, 0], supports.normal[i, 0], supports.normal[i, 1],
+                   supports.plan[i, 1], supports.normal[i, 2], supports.normal[i, 3])
+        return log
+    height = np.empty(count)
+    count, entered = 0, False
     for i in range(bodies.radius.shape[0]):
         if bodies.asleep[i]:
             if not supports.sleeping[i]:   # fell asleep at this frame time, or by the budget's fallback
                 _enter(log, bodies, env, supports, i, t)
+                entered = True
             _owe_weight(bodies, env, supports, i, t)
-            sleepers[count] = i
+            order[count] = i
             height[count] = bodies.pos[i, 0] * env.gravity[0] + bodies.pos[i, 1] * env.gravity[1]   # -height
             count += 1
-    for k in np.argsort(height, kind="mergesort"):   # highest first
-        pass_on(log, bodies, grid, env, supports, sleepers[k], t)
+    order[:count] = order[:count][np.argsort(height, kind="mergesort")]   # highest first
+    for k in range(count):
+        i = order[k]
+        a, ax, ay, b, bx, by = _choose(bodies, grid, env, supports, i)
+        supports.plan[i, 0], supports.plan[i, 1] = a, b
+        supports.normal[i, 0], supports.normal[i, 1], supports.normal[i, 2], supports.normal[i, 3] = ax, ay, bx, by
+        _split(log, bodies, env, supports, i, t, a, ax, ay, b, bx, by)
+    # the plan holds for the next frames if these loads were weights alone, over the whole frame
+    state[0], state[2], state[1] = count, state[1] == 0 and not entered, 0
     return log

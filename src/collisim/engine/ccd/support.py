@@ -24,18 +24,23 @@ from ...model.kinds import N_WALLS, SUPPORT
 from ..eventlog import append, with_room
 from .bodies import FREE, position_at
 
-Supports = namedtuple("Supports", ["support", "force", "since", "sleeping", "load"])
+Supports = namedtuple("Supports", ["support", "force", "since", "sleeping", "load", "order", "plan", "normal",
+                                   "state"])
 Supports.__doc__ = """What the supports of each body push with, as last recorded: support (n, 2)
 int64 the supports (as Bodies.support and wedge, FREE for none); force (n, 2) their normal
 forces; since (n,) the time from which their impulse (or, asleep, its weight) is not logged
 yet. sleeping (n,) bool: asleep as far as the log knows, its weight carried down the pile
-instead (carried.py); load (n, 2): the impulse a sleeper has yet to pass on to its supports."""
+instead (carried.py); load (n, 2): the impulse a sleeper has yet to pass on to its supports;
+order (n,) int64: the sleepers, highest first; plan (n, 2) int64 and normal (n, 4): the two
+supports that carry each one and their normals; state (3,) int64: the number of sleepers in
+order, whether anything changed since the last frame time, whether the plan may be reused."""
 
 
 def new_supports(n):
     """No body resting, at t = 0."""
     return Supports(np.full((n, 2), FREE, np.int64), np.zeros((n, 2)), np.zeros(n), np.zeros(n, np.bool_),
-                    np.zeros((n, 2)))
+                    np.zeros((n, 2)), np.zeros(n, np.int64), np.zeros((n, 2), np.int64), np.zeros((n, 4)),
+                    np.zeros(3, np.int64))
 
 
 @njit(cache=True, error_model="numpy")
