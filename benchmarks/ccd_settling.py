@@ -4,14 +4,17 @@
   block as a render does: seconds of compute per simulated second against discrete at 1 substep
   (same run, same scene), the peak resident memory growth per 10 s block, the largest overlap
   (radii of the smaller body), events per simulated second, frames over budget;
-* pile: 200 equal balls dropped into a box exactly 10 diameters wide, e = 0, 0.5, 0.9: the
-  largest overlap, the pile height against hexagonal close packing of 200 balls in rows of
-  10 and 9, and the kinetic energy over the last second against the drop energy.
+* pile: 200 equal balls dropped at random into a box exactly 10 diameters wide, e = 0, 0.5,
+  0.9: the largest overlap, the kinetic energy over the last second against the drop energy,
+  the floor's support against the pile's weight, and the pile's height against hexagonal close
+  packing of 200 balls in rows of 10 and 9, against the pymunk comparison mirror's pile from
+  the same drop (10 substeps) and against the discrete method's.
 
     .venv/bin/python benchmarks/ccd_settling.py settle [seconds] [rest_speed]
-    .venv/bin/python benchmarks/ccd_settling.py pile [seconds] [rest_speed]
+    .venv/bin/python benchmarks/ccd_settling.py pile [seconds] [rest_speed] [seed ...]
 
-rest_speed: ccd's Scene.rest_speed (engine/ccd/sleep.py); left out, the Scene's default.
+rest_speed: ccd's Scene.rest_speed (engine/ccd/sleep.py); left out or "default", the Scene's
+default. seed: the random drops of the pile (default 1).
 """
 import resource
 import sys
@@ -20,8 +23,10 @@ import time
 import numpy as np
 
 import collisim
+from collisim.analysis.reference.pymunk_mirror import simulate_pymunk
 from collisim.broadphase import find_pairs
 from collisim.engine import stream
+from collisim.model.kinds import SUPPORT, WALL
 
 G = 9.81
 
@@ -62,10 +67,9 @@ def settle(seconds=60.0, rest_speed=None):
           f"{costs['ccd'] / costs['discrete']:.2f}")
 
 
-def pile_world(restitution, n=200, radius=0.5, columns=10):
+def pile_world(restitution, n=200, radius=0.5, columns=10, seed=1):
     width = 2 * radius * columns
-    rows = int(np.ceil(n / (columns - 1)))
-    rng = np.random.default_rng(1)
+    rng = np.random.default_rng(seed)
     pitch = width / (columns - 1)   # wider than a diameter: no two start touching
     x = (np.arange(n) % (columns - 1) + 0.5) * pitch + rng.uniform(-0.1, 0.1, n) * radius
     y = 3 * radius + (np.arange(n) // (columns - 1)) * 2.5 * radius
@@ -86,28 +90,45 @@ def close_packing_height(n=200, radius=0.5, columns=10):
     return radius + (rows - 1) * np.sqrt(3) * radius + radius
 
 
-def pile(seconds=20.0, rest_speed=None):
-    for e in (0.0, 0.5, 0.9):
-        world = pile_world(e)
-        scene = collisim.Scene(world=world, fps=60, seconds=seconds, method="ccd", rest_speed=rest_speed)
-        start = time.perf_counter()
-        traj = collisim.simulate(scene)
-        elapsed = time.perf_counter() - start
-        m = world.masses
-        drop = float(np.sum(m * G * (world.positions[:, 1] - world.radii)) + 0.5 * np.sum(m[:, None] * world.velocities ** 2))
-        ke = 0.5 * np.sum(m[None] * np.sum(traj.velocities ** 2, axis=2), axis=1)
-        worst = max(worst_overlap(p, traj.radii) for p in traj.positions[::6])
-        top = float(np.max(traj.positions[-1, :, 1] + traj.radii))
-        ref = close_packing_height()
-        discrete = collisim.simulate(scene.replace(method="discrete"))
-        discrete_top = float(np.max(discrete.positions[-1, :, 1] + discrete.radii))
-        last = traj.times >= traj.times[-1] - 1.0
-        print(f"e = {e}: {elapsed:.1f} s for {seconds:g} s, largest overlap {worst:.2e} r, height {top:.3f} vs "
-              f"close packing {ref:.3f} ({(top / ref - 1) * 100:+.2f} %), kinetic energy over the last second "
-              f"<= {ke[last].max() / drop:.1e} of the drop energy, frames over budget {int(traj.approximate.sum())}; "
-              f"the discrete pile's height {discrete_top:.3f} ({(top / discrete_top - 1) * 100:+.2f} %)", flush=True)
+def top_of(traj):
+    return float(np.max(traj.positions[-1, :, 1] + traj.radii))
+
+
+def floor_share(traj, world):
+    """The floor's support over the last second against the pile's weight (kinds.SUPPORT)."""
+    last = (traj.events.time > traj.times[-1] - 1.0) & (traj.events.j == 2) & np.isin(traj.events.kind, (WALL, SUPPORT))
+    return float(traj.events.impulse[last].sum() / (world.masses.sum() * G * 1.0))
+
+
+def pile(seconds=20.0, rest_speed=None, seeds=(1,)):
+    ref = close_packing_height()
+    for seed in seeds:
+        for e in (0.0, 0.5, 0.9):
+            world = pile_world(e, seed=int(seed))
+            scene = collisim.Scene(world=world, fps=60, seconds=seconds, method="ccd", rest_speed=rest_speed)
+            start = time.perf_counter()
+            traj = collisim.simulate(scene)
+            elapsed = time.perf_counter() - start
+            m = world.masses
+            drop = float(np.sum(m * G * (world.positions[:, 1] - world.radii)) + 0.5 * np.sum(m[:, None] * world.velocities ** 2))
+            ke = 0.5 * np.sum(m[None] * np.sum(traj.velocities ** 2, axis=2), axis=1)
+            worst = max(worst_overlap(p, traj.radii) for p in traj.positions[::6])
+            top = top_of(traj)
+            discrete = top_of(collisim.simulate(scene.replace(method="discrete")))
+            mirror = top_of(simulate_pymunk(scene, substeps=10))
+            last = traj.times >= traj.times[-1] - 1.0
+            print(f"seed {seed}, e = {e}: {elapsed:.1f} s for {seconds:g} s, largest overlap {worst:.2e} r, kinetic "
+                  f"energy over the last second <= {ke[last].max() / drop:.1e} of the drop energy, frames over budget "
+                  f"{int(traj.approximate.sum())}, floor support over the last second / weight "
+                  f"{floor_share(traj, world):.12f}; height {top:.3f}: {(top / ref - 1) * 100:+.2f} % against hexagonal "
+                  f"close packing ({ref:.3f}), {(top / mirror - 1) * 100:+.2f} % against the pymunk mirror's pile "
+                  f"({mirror:.3f}, 10 substeps), {(top / discrete - 1) * 100:+.2f} % against the discrete pile "
+                  f"({discrete:.3f})", flush=True)
 
 
 if __name__ == "__main__":
     what = sys.argv[1] if len(sys.argv) > 1 else "settle"
-    {"settle": settle, "pile": pile}[what](*(float(a) for a in sys.argv[2:]))
+    numbers = [None if a == "default" else float(a) for a in sys.argv[2:4]]
+    if what == "pile" and len(sys.argv) > 4:   # pile seconds rest_speed seed [seed ...]
+        numbers.append([int(a) for a in sys.argv[4:]])
+    {"settle": settle, "pile": pile}[what](*numbers)

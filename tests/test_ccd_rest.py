@@ -229,3 +229,19 @@ def test_a_ball_asleep_in_a_cradle_pushes_the_walls_apart_by_the_statics_of_its_
     assert floor == pytest.approx(3 * m * G, rel=1e-9)
     assert left == pytest.approx(m * G * math.tan(math.pi / 6) / 2, rel=1e-9)
     assert right == pytest.approx(left, rel=1e-12)
+
+
+def test_a_sleeper_left_touching_nothing_wakes_and_falls():
+    """A body asleep in mid-air — as one frozen leaning on a body that has since moved away —
+    is held up by nothing: at the next frame time it wakes and falls (carried.py); before, it
+    hung there for ever, its weight on nothing."""
+    from collisim.engine.ccd.bodies import fall_asleep
+    from collisim.engine.ccd.events import run, start_event_loop
+    loop = start_event_loop([[5.0, 5.0]], [[0.0, 0.0]], (0.0, -G), [0.5], [1.0], (0, 0, 10, 10), 0.5, None, 1.0)
+    fall_asleep(loop.bodies, 0)
+    loop.supports.sleeping[0] = True
+    positions, velocities = np.empty((30, 1, 2)), np.empty((30, 1, 2))
+    run(loop, 1 / 60, 1, 30, 100_000, positions, velocities, np.zeros((30, 3), np.int64), np.zeros(30, np.bool_))
+    assert positions[0, 0, 1] == 5.0 and not loop.bodies.asleep[0]          # woken at the first frame time
+    fallen = 0.5 * G * (29 / 60) ** 2                                        # and falling freely since
+    assert positions[-1, 0, 1] == pytest.approx(5.0 - fallen, rel=1e-12)

@@ -23,7 +23,8 @@ may also press each other and the walls harder (statically indeterminate), and a
 frozen off balance (a load no two of its supports enclose: it leans on a body at its own
 height, or one still awake) hands its weight to the support that holds it up best, along
 that support's normal, and its sideways imbalance to nobody. A sleeper with no support
-asleep or fixed keeps its load until it has one, or wakes.
+asleep or fixed keeps its load until it has one, or wakes; one that touches nothing at all
+(frozen leaning on a body that has since moved away) wakes at the frame time and falls.
 """
 import math
 
@@ -35,7 +36,8 @@ from ...geometry.box import wall_geometry
 from ...geometry.segment import segment_contact
 from ...model.kinds import N_WALLS, PAIR, SUPPORT
 from ..eventlog import append, with_room
-from .sleep import SLEEP_GAP, UPRIGHT
+from .bodies import advance, wake
+from .sleep import SLEEP_GAP, UPRIGHT, touches_a_body
 from .support import log_impulses
 
 NONE = -1
@@ -205,9 +207,12 @@ def note_sleepers(log, bodies, grid, env, supports, particles, count, t):
 
 
 @njit(cache=True, error_model="numpy")
-def carry_sleepers(log, bodies, grid, env, supports, t):
+def carry_sleepers(log, bodies, grid, env, supports, t, woken, count_woken):
     """At a frame time: every sleeper's weight since last carried joins its load, and the loads
-    go down the pile, highest sleeper first. Returns the log (with room made).
+    go down the pile, highest sleeper first. A sleeper that touches nothing any more (it fell
+    asleep leaning on a body that has since moved away) wakes, to fall: it is added to
+    woken[count_woken:] for the caller to predict. Returns the log (with room made)
+    and the new count of woken.
 
     Which supports carry each sleeper is kept (Supports.plan): while no body falls asleep or
     wakes and no sleeper is hit, every load is its weight times the frame's duration plus the
@@ -228,7 +233,7 @@ def carry_sleepers(log, bodies, grid, env, supports, t):
             i = order[k]
             _split(log, bodies, env, supports, i, t, supports.plan[i, 0], supports.normal[i, 0], supports.normal[i, 1],
                    supports.plan[i, 1], supports.normal[i, 2], supports.normal[i, 3])
-        return log
+        return log, count_woken
     height = np.empty(count)
     count, entered = 0, False
     for i in range(bodies.radius.shape[0]):
@@ -243,10 +248,19 @@ def carry_sleepers(log, bodies, grid, env, supports, t):
     order[:count] = order[:count][np.argsort(height, kind="mergesort")]   # highest first
     for k in range(count):
         i = order[k]
+        loaded = supports.load[i, 0] != 0.0 or supports.load[i, 1] != 0.0   # (not: asleep from just now)
         a, ax, ay, b, bx, by = _choose(bodies, grid, env, supports, i)
+        if a == NONE and loaded and not touches_a_body(bodies, grid, i, t):   # touching nothing: it falls
+            advance(bodies, i, t)
+            wake(bodies, env, i)
+            supports.sleeping[i] = False
+            supports.load[i, 0] = supports.load[i, 1] = 0.0
+            woken[count_woken] = i
+            count_woken += 1
+            entered = True   # the set of sleepers changes: choose again next frame
         supports.plan[i, 0], supports.plan[i, 1] = a, b
         supports.normal[i, 0], supports.normal[i, 1], supports.normal[i, 2], supports.normal[i, 3] = ax, ay, bx, by
         _split(log, bodies, env, supports, i, t, a, ax, ay, b, bx, by)
     # the plan holds for the next frames if these loads were weights alone, over the whole frame
     state[0], state[2], state[1] = count, state[1] == 0 and not entered, 0
-    return log
+    return log, count_woken

@@ -319,7 +319,7 @@ def run(loop, frame_dt, first, count, budget, positions, velocities, counts, ove
             queue = schedule_all(bodies, grid, env, queue, t_frame, t_end, base, done)
         fell = doze_all(bodies, grid, env, t_frame, involved)
         if may_sleep:
-            log = carry_sleepers(log, bodies, grid, env, supports, t_frame)
+            log, fell = carry_sleepers(log, bodies, grid, env, supports, t_frame, involved, fell)
         if fell:
             queue = reschedule(bodies, grid, env, queue, involved, fell, t_frame, t_end, base, done)
         sample(bodies, t_frame, positions[row], velocities[row])
