@@ -19,12 +19,17 @@ from numba.extending import overload
 from .brute import brute_force_pairs
 from .bvh import build_bvh, bvh_pairs
 from .grid import bin_boxes, grid_pairs
+from .grid_home import home_cells_per_unit, home_grid_pairs, home_scratch
 from .kdtree import kdtree_pairs
 from .sweep_prune import repair_order, sweep
 
 BruteState = namedtuple("BruteState", ["n"])
 SweepState = namedtuple("SweepState", ["order", "axis"])        # (n,) intp; (1,) intp, -1 before the first sort
-GridState = namedtuple("GridState", ["origin", "cells_per_unit", "nx", "ny"])
+GridState = namedtuple("GridState", ["origin", "cells_per_unit", "nx", "ny", "count", "start", "ids", "lo", "hi",
+                                     "room"])
+GridState.__doc__ = """A fixed grid over the world's box: origin (2,), 1 / cell width, nx x ny cells; and the
+scratch of home-cell filing, made once (grid_home.py's home_scratch): count, zero between steps, start,
+the n boxes in cell order (ids, lo, hi), room."""
 KDTreeState = namedtuple("KDTreeState", ["leaf_size", "max_depth"])
 BVHState = namedtuple("BVHState", ["leaf_size"])
 
@@ -33,8 +38,11 @@ def box_grid(box, radii) -> GridState:
     """A fixed grid over the world's box (bodies never leave it): cells twice the median
     diameter, widened so there are at most about 4n cells."""
     width, height = box[2] - box[0], box[3] - box[1]
-    cell = max(4.0 * float(np.median(radii)), np.sqrt(width * height / (4 * max(len(radii), 1))))
-    return GridState(np.array(box[:2], np.float64), 1.0 / cell, int(width // cell) + 1, int(height // cell) + 1)
+    n = len(radii)
+    typical = float(np.median(radii)) if n else 0.0   # an empty world: cells from the box alone
+    cell = max(4.0 * typical, np.sqrt(width * height / (4 * max(n, 1))))
+    nx, ny = int(width // cell) + 1, int(height // cell) + 1
+    return GridState(np.array(box[:2], np.float64), 1.0 / cell, nx, ny, *home_scratch(nx, ny, n))
 
 
 STATES = {
@@ -102,6 +110,17 @@ def _sweep(state, lo, hi):
 
 
 def _grid(state, lo, hi):
+    # Each box filed once, in its home cell, and the boxes gathered into cell order (grid_home.py),
+    # when the boxes are no more than twice the grid's cells wide and the scratch holds them
+    # (cells then widened to the widest box: fewer of them, so they fit the scratch);
+    # otherwise each box in every cell it overlaps (grid.py).
+    n = lo.shape[0]
+    per_unit = home_cells_per_unit(lo, hi, state.cells_per_unit) if n <= state.ids.shape[0] else 0.0
+    if per_unit > 0.0:
+        scale = per_unit / state.cells_per_unit
+        nx, ny = min(state.nx, int(state.nx * scale) + 1), min(state.ny, int(state.ny * scale) + 1)
+        return home_grid_pairs(lo, hi, state.origin, per_unit, nx, ny, state.count, state.start, state.ids,
+                               state.lo, state.hi, state.room)
     start, boxes = bin_boxes(lo, hi, state.origin, state.cells_per_unit, state.nx, state.ny)
     return grid_pairs(lo, hi, state.origin, state.cells_per_unit, state.nx, state.ny, start, boxes)
 
