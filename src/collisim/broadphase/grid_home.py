@@ -6,7 +6,7 @@ for boxes of any size, but it allocates and scans the whole grid each call, and 
 in the caller's order, which at 10^5 bodies is mostly cache misses. The step calls the broad
 phase on boxes of much the same size, every step, so here:
 
-* cells at least as wide as the widest box (home_cells_per_unit), and each box filed only in
+* cells as wide as the widest box (home_cells_per_unit), and each box filed only in
   its *home* cell, the cell of its lower-left corner. Two overlapping boxes then have home
   cells at most one apart on each axis (box i starts no farther right than box j ends, and box
   j is narrower than a cell), so a cell need only meet itself and its forward half of the 3 x 3
@@ -32,30 +32,30 @@ from .grid import cell_of
 
 FITS = 1.0 - 2.0 ** -20   # widest box / cell width at most this: the home-cell rule then holds
                           # with room for the rounding of (x - origin) * cells_per_unit
-WIDEST_CELL = 2.0         # cells widened beyond this many base cells: file boxes in grid.py's way
+WIDEST_CELL = 2.0         # cells wider than this many of the grid's own: file boxes in grid.py's way
 
 
-@njit(cache=True)
-def home_cells_per_unit(lo, hi, cells_per_unit):
-    """1 / the cell width for home-cell filing: the grid's own cells, widened when a box is
-    wider than FITS of one; 0.0 when that would widen them more than WIDEST_CELL times."""
+@njit(cache=True, fastmath={"nnan", "nsz", "reassoc"})
+def home_cells_per_unit(lo, hi, finest, cells_per_unit):
+    """1 / the cell width for home-cell filing: cells as wide as the widest box (over FITS), the
+    fewer boxes a box is tested against the better, but no narrower than 1 / finest (the
+    scratch's grid); 0.0 when they would be more than WIDEST_CELL times the grid's own cells
+    (1 / cells_per_unit) wide. fastmath (no NaN, reassociation) lets the maximum be taken several
+    lanes at a time: it is exact in any order, and boxes are finite."""
     widest = 0.0
     for i in range(lo.shape[0]):
-        for axis in range(2):
-            if hi[i, axis] - lo[i, axis] > widest:       # (max() of three is several times slower)
-                widest = hi[i, axis] - lo[i, axis]
-    if widest * cells_per_unit <= FITS:
-        return cells_per_unit
-    per_unit = FITS / widest
+        widest = max(widest, hi[i, 0] - lo[i, 0])
+        widest = max(widest, hi[i, 1] - lo[i, 1])
+    per_unit = min(finest, FITS / widest) if widest > 0.0 else finest
     return per_unit if per_unit * WIDEST_CELL >= cells_per_unit else 0.0
 
 
-@njit(cache=True, inline="always")
-def home_cell(lo, i, origin, per_unit, nx, ny):
-    """The id of box i's home cell, the cell of its lower-left corner, in the padded numbering
-    of home_grid_pairs: ix * (ny + 2) + iy + 1."""
-    return (cell_of(lo[i, 0], origin[0], per_unit, nx) * (ny + 2)
-            + cell_of(lo[i, 1], origin[1], per_unit, ny) + 1)
+def home_layout(width: float, height: float, cell: float, most_radius: float, n: int) -> tuple:
+    """The finest grid home-cell filing may use over a width x height box for n boxes: cells no
+    narrower than the widest box can be (a box is at least its circle's diameter, 2 * most_radius)
+    nor than leaves about 4n cells, nor wider than `cell`. Returns (1 / its cell width, nx, ny)."""
+    fine = min(cell, max(2.0 * most_radius, np.sqrt(width * height / (4 * max(n, 1)))))
+    return 1.0 / fine, int(width // fine) + 1, int(height // fine) + 1
 
 
 def home_scratch(nx: int, ny: int, n: int) -> tuple:
@@ -65,6 +65,14 @@ def home_scratch(nx: int, ny: int, n: int) -> tuple:
     cells = (nx + 1) * (ny + 2)
     return (np.zeros(cells, np.int32), np.empty(cells + 1, np.int32), np.empty(n, np.int32), np.empty((n, 2)),
             np.empty((n, 2)), np.full(1, n // 8, np.intp))
+
+
+@njit(cache=True, inline="always")
+def home_cell(lo, i, origin, per_unit, nx, ny):
+    """The id of box i's home cell, the cell of its lower-left corner, in the padded numbering
+    of home_grid_pairs: ix * (ny + 2) + iy + 1."""
+    return (cell_of(lo[i, 0], origin[0], per_unit, nx) * (ny + 2)
+            + cell_of(lo[i, 1], origin[1], per_unit, ny) + 1)
 
 
 @njit(cache=True)
