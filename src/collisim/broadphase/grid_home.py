@@ -13,10 +13,11 @@ phase on boxes of much the same size, every step, so here:
   neighbourhood: north, and the east column (south-east, east, north-east). Each pair of
   neighbouring cells meets once, so each overlapping pair is found once.
 * a counting sort on the home cells moves the boxes (and their indices) into cell order, so
-  the pair tests read a cell's and its neighbours' boxes from contiguous memory. With cell id
-  ix * ny + iy (grid.py's numbering) the forward neighbours are two contiguous runs: the cell
-  itself followed by its north neighbour, and the three cells of the east column (with an empty
-  cell padding each column's ends and an empty column after the last, no edge needs a test).
+  the pair tests read a cell's and its neighbours' boxes from contiguous memory. With the cells
+  numbered column by column (as grid.py does), the forward neighbours are two contiguous runs:
+  the cell itself followed by its north neighbour, and the three cells of the east column (with
+  an empty cell padding each column's ends and an empty column after the last, no edge needs a
+  test).
 * the arrays are kept between steps (GridState): the counts are zero between calls because the
   pair scan, which visits exactly the occupied cells, resets each one it visits. One pass over
   all cells remains, the running totals; nothing is allocated but the pairs.
@@ -27,11 +28,14 @@ The pairs are the boxes' original indices (i < j), in cell order: the step sorts
 import numpy as np
 from numba import njit
 
-from ._common import boxes_overlap, put_pair, reserve_pairs
+from ..arrays import grown
+from ._common import boxes_overlap, put_pair
 from .grid import cell_of
 
 FITS = 1.0 - 2.0 ** -20   # widest box / cell width at most this: the home-cell rule then holds
-                          # with room for the rounding of (x - origin) * cells_per_unit
+                          # with room for the rounding of (x - origin) * cells_per_unit (an error
+                          # of a few units in the last place of the column number, ~1e-9 at 10^7
+                          # columns)
 WIDEST_CELL = 2.0         # cells wider than this many of the grid's own: file boxes in grid.py's way
 
 
@@ -44,9 +48,10 @@ def home_cells_per_unit(lo, hi, finest, cells_per_unit):
     lanes at a time: it is exact in any order, and boxes are finite."""
     widest = 0.0
     for i in range(lo.shape[0]):
-        widest = max(widest, hi[i, 0] - lo[i, 0])
-        widest = max(widest, hi[i, 1] - lo[i, 1])
-    per_unit = min(finest, FITS / widest) if widest > 0.0 else finest
+        for axis in range(2):
+            # (comparisons, not max() and min(): under fastmath those would compile anew)
+            widest = hi[i, axis] - lo[i, axis] if hi[i, axis] - lo[i, axis] > widest else widest
+    per_unit = FITS / widest if widest * finest > FITS else finest
     return per_unit if per_unit * WIDEST_CELL >= cells_per_unit else 0.0
 
 
@@ -61,9 +66,9 @@ def home_layout(width: float, height: float, cell: float, most_radius: float, n:
 def home_scratch(nx: int, ny: int, n: int) -> tuple:
     """home_grid_pairs' scratch for n boxes in an nx x ny grid (or one of fewer, wider cells):
     count, start for its (nx + 1) * (ny + 2) cells, zero and empty; ids, cell_lo, cell_hi; room.
-    int32 counts and ids: half the memory traffic of the running totals (n < 2^31)."""
+    int32 counts: half the memory traffic of the running totals (n < 2^31)."""
     cells = (nx + 1) * (ny + 2)
-    return (np.zeros(cells, np.int32), np.empty(cells + 1, np.int32), np.empty(n, np.int32), np.empty((n, 2)),
+    return (np.zeros(cells, np.int32), np.empty(cells + 1, np.int32), np.empty(n, np.intp), np.empty((n, 2)),
             np.empty((n, 2)), np.full(1, n // 8, np.intp))
 
 
@@ -114,7 +119,7 @@ def home_grid_pairs(lo, hi, origin, per_unit, nx, ny, count, start, ids, cell_lo
         a, found = scan_cells(cell_lo, cell_hi, ids, start, count, a, n, column, origin, per_unit, nx, ny, pairs,
                               found)
         if a < n:
-            pairs = reserve_pairs(pairs, found, pairs.shape[0] + n)   # room for any box's tests
+            pairs = grown(pairs, found + pairs.shape[0] + n)   # room for any box's tests
     room[0] = found + found // 4 + 16
     return pairs[:found]
 

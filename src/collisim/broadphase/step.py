@@ -26,11 +26,12 @@ from .sweep_prune import repair_order, sweep
 BruteState = namedtuple("BruteState", ["n"])
 SweepState = namedtuple("SweepState", ["order", "axis"])        # (n,) intp; (1,) intp, -1 before the first sort
 GridState = namedtuple("GridState", ["origin", "cells_per_unit", "nx", "ny", "finest", "home_nx", "home_ny",
-                                     "count", "start", "ids", "lo", "hi", "room"])
+                                     "count", "start", "ids", "lo", "hi", "room"], defaults=(None,) * 9)
 GridState.__doc__ = """A fixed grid over the world's box: origin (2,), 1 / cell width, nx x ny cells; the
 finest grid home-cell filing may use (grid_home.py's home_layout: 1 / cell width, home_nx x home_ny
 cells) and its scratch, made once (home_scratch): count, zero between steps, start, the n boxes in
-cell order (ids, lo, hi), room."""
+cell order (ids, lo, hi), room. Given the layout alone (the rest None), it serves drawings of the
+grid (render/structures.py), not the step."""
 KDTreeState = namedtuple("KDTreeState", ["leaf_size", "max_depth"])
 BVHState = namedtuple("BVHState", ["leaf_size"])
 
