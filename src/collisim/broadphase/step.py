@@ -1,8 +1,8 @@
 """The broad phases as the discrete step calls them from compiled code, every step.
 
 Each method keeps what it needs between steps in a small state (a namedtuple of arrays and
-numbers): sweep and prune its sorted order, the grid its fixed layout over the box, the trees
-their options. `candidate_pairs(state, lo, hi)` is one compiled function whose implementation
+numbers): sweep and prune its sorted order, the grid its fixed layout over the box and the
+scratch of its home-cell filing (grid_home.py), the trees their options. `candidate_pairs(state, lo, hi)` is one compiled function whose implementation
 is chosen by the *type* of the state when the step is compiled (numba's overload), so a run
 compiles only the broad phase it uses and each choice is cached on its own.
 
@@ -38,7 +38,8 @@ BVHState = namedtuple("BVHState", ["leaf_size"])
 
 def box_grid(box, radii) -> GridState:
     """A fixed grid over the world's box (bodies never leave it): cells twice the median
-    diameter, widened so there are at most about 4n cells."""
+    diameter, widened so there are at most about 4n cells; and the scratch for filing the
+    world's n boxes in home cells as narrow as its largest circle allows (home_layout)."""
     width, height = box[2] - box[0], box[3] - box[1]
     n = len(radii)
     typical = float(np.median(radii)) if n else 0.0   # an empty world: cells from the box alone
