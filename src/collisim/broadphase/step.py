@@ -1,8 +1,8 @@
 """The broad phases as the discrete step calls them from compiled code, every step.
 
 Each method keeps what it needs between steps in a small state (a namedtuple of arrays and
-numbers): sweep and prune its sorted order, the grid its fixed layout over the box, the trees
-their options. `candidate_pairs(state, lo, hi)` is one compiled function whose implementation
+numbers): sweep and prune its sorted order, the grid its fixed layout over the box and the
+scratch of its home-cell filing (grid_home.py), the trees their options. `candidate_pairs(state, lo, hi)` is one compiled function whose implementation
 is chosen by the *type* of the state when the step is compiled (numba's overload), so a run
 compiles only the broad phase it uses and each choice is cached on its own.
 
@@ -19,22 +19,35 @@ from numba.extending import overload
 from .brute import brute_force_pairs
 from .bvh import build_bvh, bvh_pairs
 from .grid import bin_boxes, grid_pairs
+from .grid_home import home_cells_per_unit, home_grid_pairs, home_layout, home_scratch
 from .kdtree import kdtree_pairs
 from .sweep_prune import repair_order, sweep
 
 BruteState = namedtuple("BruteState", ["n"])
 SweepState = namedtuple("SweepState", ["order", "axis"])        # (n,) intp; (1,) intp, -1 before the first sort
-GridState = namedtuple("GridState", ["origin", "cells_per_unit", "nx", "ny"])
+GridState = namedtuple("GridState", ["origin", "cells_per_unit", "nx", "ny", "finest", "home_nx", "home_ny",
+                                     "count", "start", "ids", "lo", "hi", "room"], defaults=(None,) * 9)
+GridState.__doc__ = """A fixed grid over the world's box: origin (2,), 1 / cell width, nx x ny cells; the
+finest grid home-cell filing may use (grid_home.py's home_layout: 1 / cell width, home_nx x home_ny
+cells) and its scratch, made once (home_scratch): count, zero between steps, start, the n boxes in
+cell order (ids, lo, hi), room. Given the layout alone (the rest None), it serves drawings of the
+grid (render/structures.py), not the step."""
 KDTreeState = namedtuple("KDTreeState", ["leaf_size", "max_depth"])
 BVHState = namedtuple("BVHState", ["leaf_size"])
 
 
 def box_grid(box, radii) -> GridState:
     """A fixed grid over the world's box (bodies never leave it): cells twice the median
-    diameter, widened so there are at most about 4n cells."""
+    diameter, widened so there are at most about 4n cells; and the scratch for filing the
+    world's n boxes in home cells as narrow as its largest circle allows (home_layout)."""
     width, height = box[2] - box[0], box[3] - box[1]
-    cell = max(4.0 * float(np.median(radii)), np.sqrt(width * height / (4 * max(len(radii), 1))))
-    return GridState(np.array(box[:2], np.float64), 1.0 / cell, int(width // cell) + 1, int(height // cell) + 1)
+    n = len(radii)
+    typical = float(np.median(radii)) if n else 0.0   # an empty world: cells from the box alone
+    cell = max(4.0 * typical, np.sqrt(width * height / (4 * max(n, 1))))
+    nx, ny = int(width // cell) + 1, int(height // cell) + 1
+    finest, home_nx, home_ny = home_layout(width, height, cell, float(np.max(radii)) if n else 0.0, n)
+    return GridState(np.array(box[:2], np.float64), 1.0 / cell, nx, ny, finest, home_nx, home_ny,
+                     *home_scratch(home_nx, home_ny, n))
 
 
 STATES = {
@@ -102,6 +115,16 @@ def _sweep(state, lo, hi):
 
 
 def _grid(state, lo, hi):
+    # Each box filed once, in its home cell, and the boxes gathered into cell order (grid_home.py),
+    # in cells as wide as the widest box, when that is at most twice the grid's own cells and the
+    # scratch holds the boxes; otherwise each box in every cell it overlaps (grid.py).
+    n = lo.shape[0]
+    per_unit = home_cells_per_unit(lo, hi, state.finest, state.cells_per_unit) if n <= state.ids.shape[0] else 0.0
+    if per_unit > 0.0:
+        scale = per_unit / state.finest   # at most 1: no more cells than the scratch's grid
+        nx, ny = min(state.home_nx, int(state.home_nx * scale) + 1), min(state.home_ny, int(state.home_ny * scale) + 1)
+        return home_grid_pairs(lo, hi, state.origin, per_unit, nx, ny, state.count, state.start, state.ids,
+                               state.lo, state.hi, state.room)
     start, boxes = bin_boxes(lo, hi, state.origin, state.cells_per_unit, state.nx, state.ny)
     return grid_pairs(lo, hi, state.origin, state.cells_per_unit, state.nx, state.ny, start, boxes)
 
