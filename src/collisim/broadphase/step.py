@@ -2,7 +2,8 @@
 
 Each method keeps what it needs between steps in a small state (a namedtuple of arrays and
 numbers): sweep and prune its sorted order, the grid its fixed layout over the box and the
-scratch of its home-cell filing (grid_home.py), the trees their options. `candidate_pairs(state, lo, hi)` is one compiled function whose implementation
+scratch of its home-cell filing (grid_home.py), the trees their options.
+`candidate_pairs(state, lo, hi)` is one compiled function whose implementation
 is chosen by the *type* of the state when the step is compiled (numba's overload), so a run
 compiles only the broad phase it uses and each choice is cached on its own.
 
