@@ -155,6 +155,17 @@ def is_apart(grid, i):
 
 
 @njit(cache=True, error_model="numpy")
+def segment_range(grid, i, m):
+    """The segments body i may touch, of m: (first, last, every). Segment k for k in first ..
+    last - 1 is k itself when `every` (a large body kept apart tests them all), else
+    grid.segment_index[k] (those passing through its cell)."""
+    if is_apart(grid, i):
+        return 0, m, True
+    c = grid.cell[i]
+    return grid.segment_start[c], grid.segment_start[c + 1], False
+
+
+@njit(cache=True, error_model="numpy")
 def move(grid, i, c):
     """Body i (in cell grid.cell[i] or none) now belongs to cell c."""
     if is_apart(grid, i):

@@ -31,7 +31,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ...broadphase.cells import is_apart, reach_block
+from ...broadphase.cells import reach_block, segment_range
 from ...geometry.box import wall_geometry
 from ...geometry.segment import segment_contact
 from ...model.kinds import N_WALLS, PAIR, SUPPORT
@@ -93,18 +93,16 @@ def _supports_of(bodies, grid, env, supports, i, ux, uy):
             nx, ny = (inward, 0.0) if axis == 0 else (0.0, inward)
             angle = math.atan2(ux * ny - uy * nx, ux * nx + uy * ny)
             left, right = _nearer(angle, wall, nx, ny, 1.0, left), _nearer(angle, wall, nx, ny, -1.0, right)
-    c = grid.cell[i]
-    apart = is_apart(grid, i)
-    first, last = (0, env.segments.shape[0]) if apart else (grid.segment_start[c], grid.segment_start[c + 1])
+    first, last, every = segment_range(grid, i, env.segments.shape[0])
     for k in range(first, last):
-        segment = k if apart else grid.segment_index[k]
+        segment = k if every else grid.segment_index[k]
         nx, ny, distance = segment_contact(x, y, env.segments[segment])[:3]
         if distance - r <= SLEEP_GAP * r:
             angle = math.atan2(ux * ny - uy * nx, ux * nx + uy * ny)
             support = N_WALLS + segment
             left, right = _nearer(angle, support, nx, ny, 1.0, left), _nearer(angle, support, nx, ny, -1.0, right)
     bodies_from = N_WALLS + env.segments.shape[0]
-    cx_lo, cx_hi, cy_lo, cy_hi = reach_block(grid, c, grid.reach[i])
+    cx_lo, cx_hi, cy_lo, cy_hi = reach_block(grid, grid.cell[i], grid.reach[i])
     for slot in range((cx_hi - cx_lo) * (cy_hi - cy_lo) + grid.apart.shape[0]):
         cells = (cx_hi - cx_lo) * (cy_hi - cy_lo)
         if slot < cells:

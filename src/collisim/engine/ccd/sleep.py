@@ -55,7 +55,7 @@ from numba import njit
 from ...geometry.box import wall_geometry
 from ...geometry.segment import segment_contact
 from ...model.kinds import N_WALLS, PAIR, WALL
-from ...broadphase.cells import is_apart, reach_block
+from ...broadphase.cells import reach_block, segment_range
 from .bodies import REST_HEIGHT, advance, fall_asleep, position_at, rest_on, rests_on, velocity_at, wake
 
 # A support this fraction of the radius away (or closer) counts as touching.
@@ -111,16 +111,14 @@ def cradled(bodies, grid, env, i, t, hitting):
         off = abs((x, y)[axis] - bound)
         if rests_on(bodies, i, wall) or (hitting and off <= REST_HEIGHT * r) or (off <= gap and nx * ux + ny * uy <= 0.0):
             right, left = _widen(ux, uy, nx, ny, right, left)
-    c = grid.cell[i]
-    apart = is_apart(grid, i)
-    first, last = (0, env.segments.shape[0]) if apart else (grid.segment_start[c], grid.segment_start[c + 1])
+    first, last, every = segment_range(grid, i, env.segments.shape[0])
     for k in range(first, last):
-        segment = k if apart else grid.segment_index[k]
+        segment = k if every else grid.segment_index[k]
         nx, ny, distance = segment_contact(x, y, env.segments[segment])[:3]
         if rests_on(bodies, i, N_WALLS + segment) or (hitting and distance - r <= REST_HEIGHT * r) or \
                 (distance - r <= gap and nx * ux + ny * uy <= 0.0):
             right, left = _widen(ux, uy, nx, ny, right, left)
-    cx_lo, cx_hi, cy_lo, cy_hi = reach_block(grid, c, grid.reach[i])
+    cx_lo, cx_hi, cy_lo, cy_hi = reach_block(grid, grid.cell[i], grid.reach[i])
     for cy in range(cy_lo, cy_hi):
         for cx in range(cx_lo, cx_hi):
             j = grid.head[cy * grid.nx + cx]
