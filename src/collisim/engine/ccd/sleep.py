@@ -38,15 +38,16 @@ rest speed, a bounce of a thousandth of a radius.
 Status: ON BY DEFAULT under gravity when e < 1 (default_rest_speed); rest_speed 0 turns it
 off; without gravity or with e = 1 the default is 0, so gases run byte for byte as before.
 Measured (benchmarks/ccd_settling.py): the settling particles_250 gas (e = 0.8, default rest
-speed) costs 1.5x the discrete method per simulated second, memory flat, no frame over the
-budget, overlaps ~1e-14 r. A sleeper's weight goes on to the walls through the pile under it
-(carried.py), so a sleeping pile presses the floor with all its weight. Known limit: piles
-freeze looser than hexagonal close packing: +6.6 and +9.2 % in height
-for 200 balls, e = 0, dropped at random (seeds 1 and 2), against +4.7 and +4.8 % for pymunk
-(frictionless, 10 substeps) and +7.4 and +6.9 % for the discrete method on the same drops; the
-bottom row freezes with gaps, because a sleeper pushed aside slower than its rest speed stays a
-fixed obstacle (waking a sleeper on every push its supports cannot take was tried: it makes
-event storms, 10 million events in 8 s, and was not kept).
+speed, 60 s) has no frame over the budget, memory flat, overlaps ~1e-13 r, and costs 3.8-4.7x
+the discrete method at one substep per simulated second. A sleeper's weight goes on to the
+walls through the pile under it (carried.py), so a sleeping pile presses the floor with all
+its weight. Known limit: piles freeze looser than hexagonal close packing. 200 balls dropped at
+random (seeds 1 and 2), 10 s: e = 0 +14.4 and +11.9 % in height, e = 0.5 +8.5 and +12.6 %,
+e = 0.9 +5.8 and +6.8 %; against the pymunk comparison mirror's pile from the same drop (10
+substeps) +9.4 and +1.7 %, +2.8 and +7.0 %, -0.4 and +0.6 %. The bottom row freezes with gaps,
+because a sleeper pushed aside slower than its rest speed stays a fixed obstacle (waking a
+sleeper on every push its supports cannot take was tried: it makes event storms, 10 million
+events in 8 s, and was not kept).
 """
 import math
 
