@@ -176,7 +176,7 @@ def test_a_small_inelastic_pile_falls_asleep_without_overlap():
 
 def test_an_inelastic_pile_of_sixty_leaning_on_each_other_falls_asleep():
     """60 balls, e = 0, dropped in rows into a box 6 diameters wide: balls that lean on each other
-    (arches, rows pressed together) cannot wait for one another to sleep first; by 2.5 s the pile is
+    (arches, rows pressed together) cannot wait for one another to sleep first; by 3 s the pile is
     still, exactly, and no two balls ever overlap."""
     rng = np.random.default_rng(1)
     n, r, columns = 60, 0.5, 6
@@ -185,13 +185,13 @@ def test_an_inelastic_pile_of_sixty_leaning_on_each_other_falls_asleep():
     y = 3 * r + (np.arange(n) // (columns - 1)) * 2.5 * r
     world = collisim.World(np.column_stack([x, y]), rng.normal(0, 0.5, (n, 2)), r, box=(0, 0, 6, y.max() + 2 * r),
                            gravity=(0, -G), restitution=0.0)
-    traj = collisim.simulate(collisim.Scene(world=world, fps=60, seconds=3.0, method="ccd", rest_speed=0.099))
+    traj = collisim.simulate(collisim.Scene(world=world, fps=60, seconds=3.5, method="ccd", rest_speed=0.099))
     assert not traj.approximate.any()
-    assert np.all(traj.velocities[150:] == 0.0) and np.all(traj.positions[150:] == traj.positions[-1])
+    assert np.all(traj.velocities[180:] == 0.0) and np.all(traj.positions[180:] == traj.positions[-1])
     assert largest_overlap(traj) < 1e-9
     # asleep, the whole pile weighs on the floor (carried.py), leaning balls and all
     weight = world.masses.sum() * G
-    for frame in (160, 180):
+    for frame in (190, 210):
         assert _support_per_frame(traj, frame)[2] == pytest.approx(weight, rel=1e-9)
 
 

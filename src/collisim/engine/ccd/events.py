@@ -257,7 +257,7 @@ def start_event_loop(positions, velocities, gravity, radii, masses, box, restitu
         raise ValueError(f"need rest_speed >= 0 and tc >= 0, got {rest_speed} and {tc}")
     env = Environment(box, segments, gravity, float(restitution), np.broadcast_to(
         np.asarray(rest_speed, np.float64), (n,)).copy(), float(tc))
-    grid = make_grid(box, radii, segments, separate_large)
+    grid = make_grid(box, radii, segments, separate_large, packed=bool(np.any(env.rest_speed > 0.0)))
     base = max(n, len(segments), N_WALLS) + 1
     done = np.zeros(n, np.bool_)
     queue = schedule_all(bodies, grid, env, new_queue(16 * (n + 1)), 0.0, t_end, base, done)
