@@ -103,10 +103,11 @@ def _supports_of(bodies, grid, env, supports, i, ux, uy):
             left, right = _nearer(angle, support, nx, ny, 1.0, left), _nearer(angle, support, nx, ny, -1.0, right)
     bodies_from = N_WALLS + env.segments.shape[0]
     cx_lo, cx_hi, cy_lo, cy_hi = reach_block(grid, grid.cell[i], grid.reach[i])
-    for slot in range((cx_hi - cx_lo) * (cy_hi - cy_lo) + grid.apart.shape[0]):
-        cells = (cx_hi - cx_lo) * (cy_hi - cy_lo)
+    width = cx_hi - cx_lo
+    cells = width * (cy_hi - cy_lo)
+    for slot in range(cells + grid.apart.shape[0]):   # the block's cells, then the bodies kept apart
         if slot < cells:
-            j = grid.head[(cy_lo + slot // (cx_hi - cx_lo)) * grid.nx + cx_lo + slot % (cx_hi - cx_lo)]
+            j = grid.head[(cy_lo + slot // width) * grid.nx + cx_lo + slot % width]
         else:
             j = grid.apart[slot - cells]
         while j >= 0:
