@@ -110,7 +110,8 @@ def pile(seconds=20.0, rest_speed=None, seeds=(1,)):
             traj = collisim.simulate(scene)
             elapsed = time.perf_counter() - start
             m = world.masses
-            drop = float(np.sum(m * G * (world.positions[:, 1] - world.radii)) + 0.5 * np.sum(m[:, None] * world.velocities ** 2))
+            drop = float(np.sum(m * G * (world.positions[:, 1] - world.radii))
+                         + 0.5 * np.sum(m[:, None] * world.velocities ** 2))
             ke = 0.5 * np.sum(m[None] * np.sum(traj.velocities ** 2, axis=2), axis=1)
             worst = max(worst_overlap(p, traj.radii) for p in traj.positions[::6])
             top = top_of(traj)

@@ -199,7 +199,8 @@ def _support_per_frame(traj, frame):
     """The SUPPORT impulse each wall gave during frame `frame`, as a force (impulse × fps)."""
     ev = traj.events
     during = (ev.time > traj.times[frame - 1]) & (ev.time <= traj.times[frame]) & (ev.kind == SUPPORT)
-    return np.array([ev.impulse[during & (ev.j == wall)].sum() for wall in range(N_WALLS)]) / (traj.times[1] - traj.times[0])
+    impulses = np.array([ev.impulse[during & (ev.j == wall)].sum() for wall in range(N_WALLS)])
+    return impulses / (traj.times[1] - traj.times[0])
 
 
 def test_a_sleeping_pile_gives_the_floor_its_whole_weight():
@@ -222,7 +223,8 @@ def test_a_ball_asleep_in_a_cradle_pushes_the_walls_apart_by_the_statics_of_its_
     """A ball asleep on two that fill a box two diameters wide: each lower ball takes m g / (2 cos 30°)
     along the line of centres, so the floor carries 3 m g and each wall m g tan 30° / 2."""
     r = 0.5
-    world, traj = ccd([[0.5, r], [1.5, r], [1.0, r + math.sqrt(3) * r + 0.05]], radius=r, seconds=2.0, box=(0, 0, 2, 10))
+    cradle = [[0.5, r], [1.5, r], [1.0, r + math.sqrt(3) * r + 0.05]]
+    world, traj = ccd(cradle, radius=r, seconds=2.0, box=(0, 0, 2, 10))
     assert np.all(traj.velocities[60:] == 0.0)
     m = world.masses[0]
     left, right, floor, top = _support_per_frame(traj, 100)

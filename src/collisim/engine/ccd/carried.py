@@ -82,6 +82,13 @@ def _nearer(angle, support, nx, ny, side, best):
 
 
 @njit(cache=True, error_model="numpy")
+def _fold(ux, uy, support, nx, ny, left, right):
+    """Fold a support of normal n into the nearest on either side of direction u."""
+    angle = math.atan2(ux * ny - uy * nx, ux * nx + uy * ny)
+    return _nearer(angle, support, nx, ny, 1.0, left), _nearer(angle, support, nx, ny, -1.0, right)
+
+
+@njit(cache=True, error_model="numpy")
 def _supports_of(bodies, grid, env, supports, i, ux, uy):
     """The supports of sleeper i nearest direction u on either side: two (angle, support,
     nx, ny), support a wall, N_WALLS + segment, or N_WALLS + segments + body (NONE: none)."""
@@ -91,16 +98,13 @@ def _supports_of(bodies, grid, env, supports, i, ux, uy):
         axis, bound, inward = wall_geometry(env.box, wall, r)
         if abs((x, y)[axis] - bound) <= SLEEP_GAP * r:
             nx, ny = (inward, 0.0) if axis == 0 else (0.0, inward)
-            angle = math.atan2(ux * ny - uy * nx, ux * nx + uy * ny)
-            left, right = _nearer(angle, wall, nx, ny, 1.0, left), _nearer(angle, wall, nx, ny, -1.0, right)
+            left, right = _fold(ux, uy, wall, nx, ny, left, right)
     first, last, every = segment_range(grid, i, env.segments.shape[0])
     for k in range(first, last):
         segment = k if every else grid.segment_index[k]
         nx, ny, distance = segment_contact(x, y, env.segments[segment])[:3]
         if distance - r <= SLEEP_GAP * r:
-            angle = math.atan2(ux * ny - uy * nx, ux * nx + uy * ny)
-            support = N_WALLS + segment
-            left, right = _nearer(angle, support, nx, ny, 1.0, left), _nearer(angle, support, nx, ny, -1.0, right)
+            left, right = _fold(ux, uy, N_WALLS + segment, nx, ny, left, right)
     bodies_from = N_WALLS + env.segments.shape[0]
     cx_lo, cx_hi, cy_lo, cy_hi = reach_block(grid, grid.cell[i], grid.reach[i])
     width = cx_hi - cx_lo
@@ -117,10 +121,7 @@ def _supports_of(bodies, grid, env, supports, i, ux, uy):
             if j != i and supports.sleeping[j] and distance > 0.0 and \
                     distance - r - bodies.radius[j] <= SLEEP_GAP * min(r, bodies.radius[j]) and \
                     dx * env.gravity[0] + dy * env.gravity[1] < 0.0:
-                nx, ny = dx / distance, dy / distance
-                angle = math.atan2(ux * ny - uy * nx, ux * nx + uy * ny)
-                support = bodies_from + j
-                left, right = _nearer(angle, support, nx, ny, 1.0, left), _nearer(angle, support, nx, ny, -1.0, right)
+                left, right = _fold(ux, uy, bodies_from + j, dx / distance, dy / distance, left, right)
             j = grid.next[j] if slot < cells else -1
     return left, right
 

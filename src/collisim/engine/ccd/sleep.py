@@ -110,7 +110,8 @@ def cradled(bodies, grid, env, i, t, hitting):
         axis, bound, inward = wall_geometry(env.box, wall, r)
         nx, ny = (inward, 0.0) if axis == 0 else (0.0, inward)
         off = abs((x, y)[axis] - bound)
-        if rests_on(bodies, i, wall) or (hitting and off <= REST_HEIGHT * r) or (off <= gap and nx * ux + ny * uy <= 0.0):
+        if rests_on(bodies, i, wall) or (hitting and off <= REST_HEIGHT * r) or \
+                (off <= gap and nx * ux + ny * uy <= 0.0):
             right, left = _widen(ux, uy, nx, ny, right, left)
     first, last, every = segment_range(grid, i, env.segments.shape[0])
     for k in range(first, last):
