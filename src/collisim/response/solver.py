@@ -44,8 +44,20 @@ POSITION_RATE = 0.2   # the fraction of an overlap (beyond the slop) removed per
 # this share of the largest impulse (or after its `iterations`): the solve has converged, and
 # the next sweeps would change velocities by far less than rounding shows in a frame. Warm
 # started (warmstart.py), a frictionless pile at rest converges in one or two sweeps instead of
-# twenty; with friction the changes level off near 6e-9 of the largest and every sweep runs.
+# twenty.
 TOLERANCE = 1e-9
+# With friction the sweeps need not converge: Gauss-Seidel over Coulomb's cones can cycle, a
+# contact's friction and normal impulses trading the same amount back and forth at every sweep
+# (on the polygons scene's pile the change levels off anywhere from 1e-9 to 3e-5 of the largest
+# impulse and stays there for every sweep). So with friction the velocity sweeps also end when
+# one changes more than STALL times the change of the sweep before: the solve is cycling, not
+# converging, and more sweeps buy nothing. Measured on the stack of six boxes (30 s, e = 0,
+# mu = 0.5): without this rule it ends still to 1.3e-3 units/s and 8.8e-3 of sideways drift;
+# with it, 9e-8 units/s and 2.2e-3 (0.8 instead of 0.9 lets it sink 1.2 % of a box width:
+# the rule must only catch a cycle, not a slow convergence). On the polygons scene the velocity
+# solve went from 44 to 17 us a step. Frictionless contacts are a convex problem, whose sweeps
+# converge: they keep TOLERANCE alone.
+STALL = 0.9
 # The rest pass runs at most this many sweeps. It only ever takes kinetic energy out, and what a
 # short pass leaves (a pressed contact still parting at a fraction of the rest speed) the next
 # step's solve takes up; with friction it rarely meets TOLERANCE, and twenty sweeps cost as much
@@ -156,6 +168,7 @@ def solve_velocities(rows, count, lin, ang, accelerations, inverse_masses, inver
             k11, k22, k12 = couplings(m, J[r], L[r, 0], L[r, 2], L[r + 1, 0], L[r + 1, 2])
             pair_k[r, 0], pair_k[r, 1], pair_k[r, 2] = 0.5 * k11, 0.5 * k22, 0.5 * k12
     scale = _largest(impulses, count)
+    before = np.inf   # the change of the sweep before
     for _ in range(iterations):
         change = 0.0   # the largest change of an accumulated impulse in this sweep
         for r in range(count):
@@ -199,8 +212,9 @@ def solve_velocities(rows, count, lin, ang, accelerations, inverse_masses, inver
                 change, scale = max(change, abs(total - impulses[r])), max(scale, total)
                 impulses[r] = total
             r += 1
-        if change <= TOLERANCE * scale:
+        if change <= TOLERANCE * scale or (friction > 0.0 and change > STALL * before):
             break
+        before = change
 
 
 @njit(cache=True)
