@@ -135,7 +135,8 @@ def sort_pairs(pairs, n):
 def _contact_phases(bodies, statics, broad, dt, margin, lo, hi, vertices, moved, found, rows, phase_cycles, t):
     """broad and narrow: the step's contact rows, from the state at its start. vertices (V, 2)
     receives the polygons' world vertices; found and rows (response/rows.py) are kept from step
-    to step, grown when a step needs more. Returns (found, rows, count, candidate pairs, t)."""
+    to step, grown when a step needs more. Returns (found, rows, count, candidate pairs, which of
+    them touch, t)."""
     b = bodies
     n = b.positions.shape[0]
     margins(b.velocities, b.angular_velocities, b.accelerations, b.radii, dt, margin)
@@ -149,8 +150,8 @@ def _contact_phases(bodies, statics, broad, dt, margin, lo, hi, vertices, moved,
     most = pairs.shape[0] + near + 4 * n   # a manifold a pair, a polygon and segment, a body and wall
     if found.shape[0] < most:
         found = new_found(most + most // 2)
-    in_pair = np.zeros(n, np.bool_)
-    k = pair_manifolds(b, vertices, margin, dt, pairs, found, 0, in_pair, moved, statics.volumes)
+    in_pair, touching = np.zeros(n, np.bool_), np.empty(pairs.shape[0], np.bool_)
+    k = pair_manifolds(b, vertices, margin, dt, pairs, found, 0, in_pair, touching, moved, statics.volumes)
     k = wall_manifolds(b, vertices, margin, statics.box, statics.rest_speed, in_pair, found, k, statics.volumes)
     if near > 0:
         k = segment_manifolds(b, vertices, margin, statics.segments, found, k, statics.volumes)
@@ -158,7 +159,7 @@ def _contact_phases(bodies, statics, broad, dt, margin, lo, hi, vertices, moved,
         rows = new_rows(3 * k)
     count = rows_from(found, k, b, rows)
     t = _lap(phase_cycles, NARROW, t)
-    return found, rows, count, pairs, t
+    return found, rows, count, pairs, touching, t
 
 
 @njit(cache=True)
@@ -246,10 +247,11 @@ def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, memor
     # each step's contacts are found from the state that ends the step before (so a frame's
     # candidates are those of the state it records); the first block's, from the state given
     found, rows, count, pairs = contacts
+    touching = np.empty(0, np.bool_)   # each frame's is found by the contact phases before its record
     t = cycles()
     if count < 0:
-        found, rows, count, pairs, t = _contact_phases(b, s, broad, dt, margin, lo, hi, vertices, moved, found,
-                                                       rows, phase_cycles, t)
+        found, rows, count, pairs, touching, t = _contact_phases(b, s, broad, dt, margin, lo, hi, vertices, moved,
+                                                                 found, rows, phase_cycles, t)
     for frame in range(out.positions.shape[0]):
         frame_collisions = out.collisions[frame]
         for _ in range(substeps):
@@ -278,10 +280,10 @@ def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, memor
             t = _lap(phase_cycles, STATICS, t)
             if count > 0 and settle_in_map(s.map, b.positions, b.radii):
                 t = _lap(phase_cycles, SETTLE, t)
-            found, rows, count, pairs, t = _contact_phases(b, s, broad, dt, margin, lo, hi, vertices, moved,
-                                                                found, rows, phase_cycles, t)
+            found, rows, count, pairs, touching, t = _contact_phases(b, s, broad, dt, margin, lo, hi, vertices,
+                                                                     moved, found, rows, phase_cycles, t)
         out.candidates[frame] = pairs.shape[0]
-        record_levels(levels, b, pairs, vertices, out.hierarchy[frame])
+        record_levels(levels, b, pairs, vertices, touching, out.hierarchy[frame])
         out.positions[frame] = b.positions
         out.velocities[frame] = b.velocities
         if out.angles.shape[1] == n:  # bodies that turn (see new_frames)

@@ -16,7 +16,9 @@ is a false positive only at the scale of SLACK). A circle's bounding circle is t
 (tested exactly, as the exact level does), its box and oriented box the square around it.
 
 The exact level is the narrow phase's own touching tests (narrowphase/circles.py, polygons.py):
-touching counts, as depth >= 0 does in the manifolds.
+touching counts, as depth >= 0 does in the manifolds. The discrete engine reads it from the
+manifolds its contact phase finds for the same state (response/rows.py: pair_manifolds), so a
+frame's funnel costs no second exact test.
 
 The pairs are those whose bounding circles' boxes overlap. Counted over any larger set of pairs
 the counts are the same (a pair whose bounding circles are apart passes no level), so the
@@ -151,19 +153,27 @@ def passes(level, shapes, positions, radii, vertices, start, volumes, i, j):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _level(shapes, positions, radii, vertices, start, volumes, i, j):
-    """Pair (i, j)'s level: how many tests it passes down the funnel, stopping at the first it
-    fails. (The same tests as `passes`, written out: a call per level through `passes` costs
-    more than the tests themselves.)"""
+def _volume_level(shapes, positions, radii, volumes, i, j):
+    """How many of the three bounding volumes pair (i, j) passes down the funnel, stopping at the
+    first it fails. (The same tests as `passes`, written out: a call per level through `passes`
+    costs more than the tests themselves.)"""
     if not _circles_overlap(shapes, positions, radii, i, j):
         return 0
     if not _boxes_overlap(volumes, i, j):
         return 1
     if not _oriented_overlap(volumes, i, j):
         return 2
-    if not _shapes_touch(shapes, positions, radii, vertices, start, i, j):
-        return 3
-    return 4
+    return 3
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _level(shapes, positions, radii, vertices, start, volumes, i, j):
+    """Pair (i, j)'s level: how many tests it passes down the funnel, stopping at the first it
+    fails."""
+    level = _volume_level(shapes, positions, radii, volumes, i, j)
+    if level == 3 and _shapes_touch(shapes, positions, radii, vertices, start, i, j):
+        return 4
+    return level
 
 
 @njit(cache=True, error_model="numpy")
@@ -198,7 +208,7 @@ def _level_scratch(volumes, bodies):
                                     np.empty((bodies.positions.shape[0], 10)))
 
 
-def record_levels(scratch, bodies, pairs, vertices, counts):
+def record_levels(scratch, bodies, pairs, vertices, touching, counts):
     """counts (4,) <- how many pairs of the bodies' state pass each level (count_levels), for
     worlds with polygons (compiled code only). scratch is level_scratch's: None for a world of
     circles, which is not counted and does not compile the counting (counts stay NOT_COUNTED):
@@ -206,18 +216,20 @@ def record_levels(scratch, bodies, pairs, vertices, counts):
     the touching pairs, at the cost of a pass over the step's candidates a frame
     (benchmarks/hierarchy.py). pairs: the step's candidate pairs, which include every pair
     count_levels needs; vertices: the polygons' world vertices at this state (placed by the
-    narrow phase)."""
+    narrow phase); touching (k,): whether each pair's shapes touch, as the narrow phase found
+    them at this state (response/rows.py: pair_manifolds) — the exact level without a second
+    separating-axis test (the polygons pile's funnel: 18 -> 6 us a frame)."""
     raise NotImplementedError("record_levels is called from compiled code")
 
 
 @overload(record_levels)
-def _record_levels(scratch, bodies, pairs, vertices, counts):
+def _record_levels(scratch, bodies, pairs, vertices, touching, counts):
     if isinstance(scratch, types.NoneType):
-        return lambda scratch, bodies, pairs, vertices, counts: None
+        return lambda scratch, bodies, pairs, vertices, touching, counts: None
 
-    def record(scratch, bodies, pairs, vertices, counts):
+    def record(scratch, bodies, pairs, vertices, touching, counts):
         boxes, volumes = scratch
-        count_placed(bodies, pairs, vertices, boxes, volumes, counts)
+        count_placed(bodies, pairs, vertices, boxes, volumes, touching, counts)
     return record
 
 
@@ -242,21 +254,26 @@ def count_levels(bodies, pairs, vertices, counts):
     any larger set); vertices: scratch (V, 2) for the polygons' world vertices."""
     b = bodies
     place_polygons(b.body_vertices, b.vertex_start, b.positions, b.angles, vertices)
+    touching = np.empty(pairs.shape[0], np.bool_)
+    for p in range(pairs.shape[0]):
+        touching[p] = _shapes_touch(b.shapes, b.positions, b.radii, vertices, b.vertex_start, pairs[p, 0], pairs[p, 1])
     count_placed(b, pairs, vertices, frame_boxes(b.shapes, b.body_vertices, b.vertex_start),
-                 np.empty((b.positions.shape[0], 10)), counts)
+                 np.empty((b.positions.shape[0], 10)), touching, counts)
 
 
 @njit(cache=True, error_model="numpy")
-def count_placed(bodies, pairs, vertices, boxes, volumes, counts):
+def count_placed(bodies, pairs, vertices, boxes, volumes, touching, counts):
     """count_levels, given the polygons' world vertices (V, 2) at this state, their frame_boxes
-    (n, 5), and room for their volumes (n, 10)."""
+    (n, 5), room for their volumes (n, 10), and whether each pair's shapes touch (k,)."""
     b = bodies
     counts[:] = 0
     if b.positions.shape[0] < 2:
         return
     body_volumes(b.shapes, b.positions, b.angles, b.radii, boxes, b.vertex_start, vertices, volumes)
     for p in range(pairs.shape[0]):
-        level = _level(b.shapes, b.positions, b.radii, vertices, b.vertex_start, volumes, pairs[p, 0], pairs[p, 1])
+        level = _volume_level(b.shapes, b.positions, b.radii, volumes, pairs[p, 0], pairs[p, 1])
+        if level == 3 and touching[p]:
+            level = 4
         for passed in range(level):
             counts[passed] += 1
 

@@ -34,6 +34,7 @@ from ..geometry.box import wall_geometry
 from ..geometry.toi import time_to_pair
 from ..geometry.vector import length
 from ..model.kinds import CIRCLE, N_WALLS
+from ..narrowphase.circles import circles_touch
 from ..narrowphase.manifold import body_pair_manifold, body_segment_manifold, body_wall_manifold
 
 SLOP = 0.005   # of the smaller radius: an overlap the solver tolerates between bodies (solver.py)
@@ -125,21 +126,26 @@ def _circles_at_contact(positions, velocities, radii, i, j, dt, m):
 
 
 @njit(cache=True)
-def pair_manifolds(bodies, vertices, margin, dt, pairs, found, k, in_pair, moved, polygons):
+def pair_manifolds(bodies, vertices, margin, dt, pairs, found, k, in_pair, touching, moved, polygons):
     """Record after found[:k] the manifolds of pairs (p, 2) (canonical order, i < j) with a point
-    closer than the sum of their margins; in_pair (n,) marks their bodies. Returns the new
-    record count. moved: scratch for narrowphase/manifold.py; polygons: True, or None for a
-    world of circles, which then compiles no polygon path (manifold.body_pair_manifold)."""
+    closer than the sum of their margins; in_pair (n,) marks their bodies, and touching (p,)
+    says of each pair whether its shapes touch now (the exact level of the bounding-volume
+    funnel, narrowphase/hierarchy.py, read from the manifold the step needs anyway: circles by
+    circles_touch, a polygon by its manifold's depth >= 0). Returns the new record count.
+    moved: scratch for narrowphase/manifold.py; polygons: True, or None for a world of circles,
+    which then compiles no polygon path (manifold.body_pair_manifold)."""
     shapes, positions, velocities, radii = bodies.shapes, bodies.positions, bodies.velocities, bodies.radii
     start = bodies.vertex_start
     for c in range(pairs.shape[0]):
         i, j = pairs[c, 0], pairs[c, 1]
+        touching[c] = False
         reach = margin[i] + margin[j]
         dx, dy, apart = positions[j, 0] - positions[i, 0], positions[j, 1] - positions[i, 1], radii[i] + radii[j]
         if dx * dx + dy * dy > (APART * (apart + reach)) ** 2:
             continue   # their bounding circles are farther apart than they can close
         m = body_pair_manifold(polygons, shapes, positions, radii, vertices, start, i, j, reach, moved)
         circles = shapes[i] == CIRCLE and shapes[j] == CIRCLE
+        touching[c] = circles_touch(positions, radii, i, j) if circles else m[2] > 0 and m[3] >= 0.0
         if circles and m[2] == 1 and m[3] < 0.0:
             m = _circles_at_contact(positions, velocities, radii, i, j, dt, m)
         if _reaches(m, reach):
