@@ -25,11 +25,12 @@ def with_room(log, extra):
 
     Reserve before a loop and append inside it: a log reassigned inside a loop makes numba
     count references to its seven arrays at every iteration, which costs more than the loop."""
-    need = log.size[0] + extra
+    used = log.size[0]
+    need = used + extra
     if need <= log.time.shape[0]:
         return log
-    return EventLog(grown(log.time, need), grown(log.kind, need), grown(log.i, need), grown(log.j, need),
-                    grown(log.impulse, need), grown(log.point, need), log.size)
+    return EventLog(grown(log.time, need, used), grown(log.kind, need, used), grown(log.i, need, used),
+                    grown(log.j, need, used), grown(log.impulse, need, used), grown(log.point, need, used), log.size)
 
 
 @njit(cache=True)
