@@ -75,3 +75,21 @@ def test_the_memory_benchmark_counts_a_repeated_row_once(exact):
     per_frame = exact.times.nbytes + 3 * exact.wall_collisions.nbytes + exact.candidates.nbytes + samples  # + bool
     assert held["frames"] == 2 * samples * n * 2 * 8 + 2 * n * 8 + per_frame  # angles: one row each
     assert held["events"] == len(exact.events) * (8 + 1 + 8 + 8 + 8 + 16)
+
+
+def test_a_grown_log_keeps_its_events_and_copies_only_what_it_holds():
+    from collisim.arrays import grown
+    from collisim.engine.eventlog import append, new_log, with_room
+    log = new_log(4)
+    for k in range(3):
+        append(log, 0.5 * k, 1, k, k + 1, 2.0 * k, k, -k)
+    bigger = with_room(log, 100)
+    assert bigger.time.shape[0] >= 103 and bigger.size[0] == 3
+    assert bigger.time[:3].tolist() == [0.0, 0.5, 1.0] and bigger.j[:3].tolist() == [1, 2, 3]
+    assert bigger.point[:3].tolist() == [[0.0, 0.0], [1.0, -1.0], [2.0, -2.0]]
+    assert np.shares_memory(with_room(bigger, 50).time, bigger.time)      # room left: the same arrays
+    marked = np.arange(10.0)
+    kept = grown(marked, 30, 4)
+    assert kept.shape == (30,) and kept[:4].tolist() == [0.0, 1.0, 2.0, 3.0]
+    assert grown(marked, 12).shape == (20,) and grown(marked, 12)[:10].tolist() == marked.tolist()
+    assert grown(marked, 5) is marked
