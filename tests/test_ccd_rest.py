@@ -101,14 +101,18 @@ def test_a_body_at_rest_flashes_no_ring_but_its_first_impact_does():
 
 def test_tc_model_makes_collisions_within_tc_of_the_last_elastic():
     from collisim.engine.ccd.events import simulate_events
-    # a ball between two walls, e = 0.5: its first hit halves its speed, and with tc = 10 s every
-    # later hit (each within 10 s of the previous one) is elastic
-    common = ([[5.0, 5.0]], [[8.0, 0.0]], (0.0, 0.0), [0.5], [1.0], (0.0, 0.0, 10.0, 10.0), 0.5, None, 0.1, 80)
+    # e = 0.5, no gravity: A (speed 8) hits B, then B (speed 6) hits C 1/60 s later. With tc = 10 s
+    # that second collision comes within tc of B's first and is elastic: C leaves at 6 and B stops;
+    # without, C leaves at 4.5 and B keeps 1.5. Walls are never elastic by the TC model.
+    common = ([[2.0, 5.0], [5.0, 5.0], [6.1, 5.0]], [[8.0, 0.0], [0.0, 0.0], [0.0, 0.0]], (0.0, 0.0), [0.5] * 3,
+              [1.0] * 3, (0.0, 0.0, 20.0, 10.0), 0.5, None, 0.01, 28)
     with_tc = simulate_events(*common, tc=10.0)
-    assert len(with_tc.time) >= 4
-    np.testing.assert_allclose(np.abs(with_tc.velocities[-1, 0, 0]), 4.0, rtol=1e-12)
-    without = simulate_events(*common)
-    assert np.abs(without.velocities[-1, 0, 0]) <= 1.0   # 8 -> 4 -> 2 -> 1: every hit halves it
+    assert len(with_tc.time) == 2
+    np.testing.assert_allclose(with_tc.velocities[-1, :, 0], [2.0, 0.0, 6.0], rtol=1e-12, atol=1e-12)
+    without = simulate_events(*common, tc=0.0)
+    np.testing.assert_allclose(without.velocities[-1, :, 0], [2.0, 1.5, 4.5], rtol=1e-12, atol=1e-12)
+    walls = ([[5.0, 5.0]], [[8.0, 0.0]], (0.0, 0.0), [0.5], [1.0], (0.0, 0.0, 10.0, 10.0), 0.5, None, 0.1, 80)
+    assert np.abs(simulate_events(*walls, tc=10.0).velocities[-1, 0, 0]) <= 1.0   # 8 -> 4 -> 2 -> 1
 
 
 def test_contact_model_parameters_are_checked():
@@ -156,6 +160,23 @@ def test_sleeping_is_on_by_default_only_under_gravity_and_when_inelastic():
     np.testing.assert_allclose(default_rest_speed((0.0, -G), radii, 0.5), np.sqrt(2 * G * 1e-3 * radii), rtol=1e-15)
     assert np.all(default_rest_speed((0.0, 0.0), radii, 0.5) == 0.0)   # no gravity: a gas never sleeps
     assert np.all(default_rest_speed((0.0, -G), radii, 1.0) == 0.0)    # elastic: no rest to come to
+
+
+def test_the_tc_model_is_on_by_default_only_where_bodies_sleep():
+    from collisim.engine.ccd.resolve import default_tc
+    from collisim.engine.ccd.sleep import default_rest_speed
+    from collisim.engine.ccd.stepper import CCDStepper
+    radii = np.array([0.45, 0.2])
+    slowest = np.sqrt(2 * G * 1e-3 * 0.2)   # the smaller body's rest speed
+    assert default_tc((0.0, -G), default_rest_speed((0.0, -G), radii, 0.5)) == pytest.approx(0.01 * slowest / G,
+                                                                                              rel=1e-14)
+    assert default_tc((0.0, 0.0), default_rest_speed((0.0, 0.0), radii, 0.5)) == 0.0   # a gas: off
+    assert default_tc((0.0, -G), default_rest_speed((0.0, -G), radii, 1.0)) == 0.0     # elastic: off
+    world = collisim.World([[2.0, 2.0], [5.0, 2.0]], radii=radii, box=(0, 0, 10, 10), gravity=(0, -G),
+                           restitution=0.5)
+    assert CCDStepper(world, 60, 10).loop.env.tc == pytest.approx(0.01 * slowest / G, rel=1e-14)
+    assert CCDStepper(world, 60, 10, rest_speed=0.0).loop.env.tc == 0.0                # nothing sleeps: off
+    assert CCDStepper(world, 60, 10, tc=0.0).loop.env.tc == 0.0                         # stated: kept
 
 
 def test_a_small_inelastic_pile_falls_asleep_without_overlap():

@@ -65,10 +65,11 @@ class Scene:
     broadphase: str = "auto"
     # ccd's contact model (engine/ccd/sleep.py, resolve.py): below rest_speed a body held still
     # by what it touches falls asleep (None: the speed of a bounce a thousandth of its radius
-    # high under gravity when e < 1, else never; 0: never); a collision within tc seconds of a body's last one is elastic (Luding and
-    # McNamara's TC model; 0: off)
+    # high under gravity when e < 1, else never; 0: never); a collision within tc seconds of a
+    # body's last one is elastic (Luding and McNamara's TC model; None: a hundredth of the time
+    # gravity takes to reach the rest speed, 0 where nothing sleeps; 0: off)
     rest_speed: Optional[float] = None
-    tc: float = 0.0
+    tc: Optional[float] = None
     name: str = "scene"
     description: str = ""
     render: RenderSettings = field(default_factory=RenderSettings)
@@ -103,7 +104,8 @@ class Scene:
         self.substeps = int(self.substeps)
         if self.rest_speed is not None:
             self.rest_speed = validate.number("rest_speed", self.rest_speed, low=0.0, high=np.inf)
-        self.tc = validate.number("tc", self.tc, low=0.0, high=np.inf)
+        if self.tc is not None:
+            self.tc = validate.number("tc", self.tc, low=0.0, high=np.inf)
         if self.broadphase not in ("auto",) + BROAD_PHASES:
             raise ValueError(f"unknown broad phase {self.broadphase!r}; choose one of: auto, "
                              f"{', '.join(BROAD_PHASES)}")

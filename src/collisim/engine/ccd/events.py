@@ -71,7 +71,7 @@ from .support import log_frame_supports, new_supports, note_supports
 from .carried import carry_sleepers, note_sleepers, take_hits
 from .sleep import default_rest_speed, doze, doze_all, wake_up
 from ...geometry.circle import line_of_centres
-from .resolve import (add_pair_contact, add_segment_contact, add_wall_contact, mark_hits, new_contacts,
+from .resolve import (add_pair_contact, add_segment_contact, add_wall_contact, default_tc, mark_hits, new_contacts,
                       settle_resting, solve_contacts)
 
 
@@ -238,11 +238,11 @@ cell crossings and slides off a segment's end (eventqueue.py) — for measuring 
 
 
 def start_event_loop(positions, velocities, gravity, radii, masses, box, restitution, segments, t_end,
-                     separate_large=True, rest_speed=None, tc=0.0) -> EventLoop:
+                     separate_large=True, rest_speed=None, tc=None) -> EventLoop:
     """A loop at t = 0 with every event up to t_end predicted (inputs checked and copied).
     separate_large=False sizes every cell by the largest body (broadphase/cells.py);
     rest_speed (None: sleep.default_rest_speed, 0: never sleep) and tc (the TC model's time,
-    0: off) are the contact model's (sleep.py, resolve.py)."""
+    None: resolve.default_tc, 0: off) are the contact model's (sleep.py, resolve.py)."""
     positions, velocities, gravity, radii, masses, box, segments = _checked_inputs(
         positions, velocities, gravity, radii, masses, box, segments)
     if not 0.0 <= restitution <= 1.0:
@@ -253,7 +253,9 @@ def start_event_loop(positions, velocities, gravity, radii, masses, box, restitu
                     np.zeros(n), np.zeros(n, np.bool_), np.full(n, -np.inf), np.full(n, np.inf))
     if rest_speed is None:
         rest_speed = default_rest_speed(gravity, radii, restitution)
-    if not tc >= 0.0 or np.any(~(np.asarray(rest_speed) >= 0.0)):
+    if tc is None and np.all(np.asarray(rest_speed) >= 0.0):
+        tc = default_tc(gravity, np.broadcast_to(np.asarray(rest_speed, np.float64), (n,)))
+    if tc is None or not tc >= 0.0 or np.any(~(np.asarray(rest_speed) >= 0.0)):
         raise ValueError(f"need rest_speed >= 0 and tc >= 0, got {rest_speed} and {tc}")
     env = Environment(box, segments, gravity, float(restitution), np.broadcast_to(
         np.asarray(rest_speed, np.float64), (n,)).copy(), float(tc))
@@ -348,7 +350,7 @@ def _checked_inputs(positions, velocities, gravity, radii, masses, box, segments
 
 
 def simulate_events(positions, velocities, gravity, radii, masses, box, restitution, segments, frame_dt, n_frames,
-                    max_events_per_frame=100_000, separate_large=True, rest_speed=None, tc=0.0) -> CCDResult:
+                    max_events_per_frame=100_000, separate_large=True, rest_speed=None, tc=None) -> CCDResult:
     """Exact event-driven simulation of n circles, sampled every frame_dt for n_frames.
 
     positions, velocities (n, 2); gravity (2,) the same for every particle; radii,

@@ -36,7 +36,7 @@ class CCDStepper:
     broadphase = ""   # the event loop finds its own candidates
 
     def __init__(self, world, fps: float, frames: int, profile: Profile | None = None,
-                 max_events_per_frame: int | None = None, rest_speed: float | None = None, tc: float = 0.0):
+                 max_events_per_frame: int | None = None, rest_speed: float | None = None, tc: float | None = None):
         if np.any(world.shapes != CIRCLE):
             raise ValueError("method ccd covers circles, segments and maps; this scene has polygons: "
                              "use method discrete")
