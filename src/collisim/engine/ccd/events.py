@@ -253,12 +253,12 @@ def start_event_loop(positions, velocities, gravity, radii, masses, box, restitu
                     np.zeros(n), np.zeros(n, np.bool_), np.full(n, -np.inf), np.full(n, np.inf))
     if rest_speed is None:
         rest_speed = default_rest_speed(gravity, radii, restitution)
-    if tc is None and np.all(np.asarray(rest_speed) >= 0.0):
-        tc = default_tc(gravity, np.broadcast_to(np.asarray(rest_speed, np.float64), (n,)))
-    if tc is None or not tc >= 0.0 or np.any(~(np.asarray(rest_speed) >= 0.0)):
+    rest_speed = np.broadcast_to(np.asarray(rest_speed, np.float64), (n,)).copy()
+    if tc is None:
+        tc = default_tc(gravity, rest_speed)
+    if not tc >= 0.0 or np.any(~(rest_speed >= 0.0)):
         raise ValueError(f"need rest_speed >= 0 and tc >= 0, got {rest_speed} and {tc}")
-    env = Environment(box, segments, gravity, float(restitution), np.broadcast_to(
-        np.asarray(rest_speed, np.float64), (n,)).copy(), float(tc))
+    env = Environment(box, segments, gravity, float(restitution), rest_speed, float(tc))
     grid = make_grid(box, radii, segments, separate_large, packed=bool(np.any(env.rest_speed > 0.0)))
     base = max(n, len(segments), N_WALLS) + 1
     done = np.zeros(n, np.bool_)
