@@ -35,7 +35,7 @@ about 1e-4 s for a ball of radius 0.5 under 9.81, and 0 wherever bodies never sl
 or e = 1), so gases run exactly as without it. In a 200-ball pile dropped with e = 0, balls
 pressed together against a side wall collapsed: one took 13 000 collisions in a frame, and 8
 frames of each pile (seeds 1 and 2) ran out of their event budget, in 29-31 s of compute; with
-the default tc, 2 frames each, in 20-21 s (benchmarks/ccd_settling.py pile).
+the default tc, 2 frames each, in 19-21 s (benchmarks/ccd_settling.py pile).
 
 Several contacts can happen at exactly the same time (symmetric set-ups: a ball
 hit from two mirrored sides, a billiard break). Solving them one after the

@@ -42,9 +42,9 @@ speed, 60 s) has no frame over the budget, memory flat, overlaps ~1e-13 r, and c
 the discrete method at one substep per simulated second. A sleeper's weight goes on to the
 walls through the pile under it (carried.py), so a sleeping pile presses the floor with all
 its weight. Known limit: piles freeze looser than hexagonal close packing. 200 balls dropped at
-random (seeds 1 and 2), 10 s: e = 0 +10.1 and +11.3 % in height, e = 0.5 +12.6 and +8.6 %,
-e = 0.9 +4.3 and +6.1 %; against the pymunk comparison mirror's pile from the same drop (10
-substeps) +5.3 and +1.1 %, +6.8 and +3.2 %, -1.8 and -0.0 %. The bottom row freezes with gaps,
+random (seeds 1 and 2), 10 s, with the default TC model (resolve.py): e = 0 +8.9 and +13.9 %
+in height, e = 0.5 +5.5 and +7.8 %, e = 0.9 +7.1 and +7.0 %; against the pymunk comparison
+mirror's pile from the same drop (10 substeps) +4.2 and +3.5 %, +0.1 and +2.4 %, +0.8 and +0.8 %. The bottom row freezes with gaps,
 because a sleeper pushed aside slower than its rest speed stays a fixed obstacle (waking a
 sleeper on every push its supports cannot take was tried: it makes event storms, 10 million
 events in 8 s, and was not kept).
