@@ -103,7 +103,7 @@ def test_tc_model_makes_collisions_within_tc_of_the_last_elastic():
     from collisim.engine.ccd.events import simulate_events
     # e = 0.5, no gravity: A (speed 8) hits B, then B (speed 6) hits C 1/60 s later. With tc = 10 s
     # that second collision comes within tc of B's first and is elastic: C leaves at 6 and B stops;
-    # without, C leaves at 4.5 and B keeps 1.5. Walls are never elastic by the TC model.
+    # without, C leaves at 4.5 and B keeps 1.5. A ball that only meets walls keeps e.
     common = ([[2.0, 5.0], [5.0, 5.0], [6.1, 5.0]], [[8.0, 0.0], [0.0, 0.0], [0.0, 0.0]], (0.0, 0.0), [0.5] * 3,
               [1.0] * 3, (0.0, 0.0, 20.0, 10.0), 0.5, None, 0.01, 28)
     with_tc = simulate_events(*common, tc=10.0)
@@ -113,6 +113,12 @@ def test_tc_model_makes_collisions_within_tc_of_the_last_elastic():
     np.testing.assert_allclose(without.velocities[-1, :, 0], [2.0, 1.5, 4.5], rtol=1e-12, atol=1e-12)
     walls = ([[5.0, 5.0]], [[8.0, 0.0]], (0.0, 0.0), [0.5], [1.0], (0.0, 0.0, 10.0, 10.0), 0.5, None, 0.1, 80)
     assert np.abs(simulate_events(*walls, tc=10.0).velocities[-1, 0, 0]) <= 1.0   # 8 -> 4 -> 2 -> 1
+    # but a ball hit by another hits a wall within tc elastically: B leaves A at 6 and meets the
+    # right wall 1/4 s later, coming back at 6 (at 3 without tc), before A reaches it again
+    relay = ([[2.0, 5.0], [8.0, 5.0]], [[8.0, 0.0], [0.0, 0.0]], (0.0, 0.0), [0.5] * 2, [1.0] * 2,
+             (0.0, 0.0, 10.0, 10.0), 0.5, None, 0.01, 95)
+    np.testing.assert_allclose(simulate_events(*relay, tc=10.0).velocities[-1, :, 0], [2.0, -6.0], rtol=1e-12)
+    np.testing.assert_allclose(simulate_events(*relay, tc=0.0).velocities[-1, :, 0], [2.0, -3.0], rtol=1e-12)
 
 
 def test_contact_model_parameters_are_checked():

@@ -26,7 +26,8 @@ from collections import namedtuple
 from numba import njit
 
 Bodies = namedtuple("Bodies", ["pos", "vel", "acc", "t_ref", "radius", "mass", "support", "wedge",
-                               "support_normal", "counter", "horizon", "asleep", "last_hit", "slow_since"])
+                               "support_normal", "counter", "horizon", "asleep", "last_hit", "slow_since",
+                               "last_pair_hit"])
 Bodies.__doc__ = """pos, vel, acc (n, 2): state at t_ref (n,); radius, mass (n,).
 support (n,) int64: FREE, a wall index, or N_WALLS + segment index for a resting particle;
 wedge (n,) int64: its second support when wedged, else FREE; support_normal (n, 2): the
@@ -36,13 +37,14 @@ horizon (n,) float64: time of the particle's next predicted one-particle event (
 cell crossing), after which all its predictions are redone anyway.
 asleep (n,) bool: frozen at rest (sleep.py); last_hit (n,): the time of its last collision
 (for the TC model, resolve.py); slow_since (n,): the first of the frame times since which it
-has been found slow at every frame time (inf: not slow at the last one; sleep.py)."""
+has been found slow at every frame time (inf: not slow at the last one; sleep.py);
+last_pair_hit (n,): the time of its last collision with another particle (TC model)."""
 
 Environment = namedtuple("Environment", ["box", "segments", "gravity", "restitution", "rest_speed", "tc"])
 Environment.__doc__ = """box (4,): xmin, ymin, xmax, ymax; segments (m, 4): x0, y0, x1, y1;
 gravity (2,); restitution: e in [0, 1]; rest_speed (n,): below it a body held still by its
-supports falls asleep (0: never, as with e = 1; sleep.py); tc: a collision within tc of either
-body's last one is elastic (Luding and McNamara's TC model; 0: off)."""
+supports falls asleep (0: never, as with e = 1; sleep.py); tc: Luding and McNamara's TC model's
+time (resolve.py; 0: off)."""
 
 FREE = -1
 REST_HEIGHT = 1e-9

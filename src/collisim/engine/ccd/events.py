@@ -250,7 +250,7 @@ def start_event_loop(positions, velocities, gravity, radii, masses, box, restitu
     n = len(positions)
     bodies = Bodies(positions, velocities, np.tile(gravity, (n, 1)), np.zeros(n), radii, masses,
                     np.full(n, FREE, np.int64), np.full(n, FREE, np.int64), np.zeros((n, 2)), np.zeros(n, np.int64),
-                    np.zeros(n), np.zeros(n, np.bool_), np.full(n, -np.inf), np.full(n, np.inf))
+                    np.zeros(n), np.zeros(n, np.bool_), np.full(n, -np.inf), np.full(n, np.inf), np.full(n, -np.inf))
     if rest_speed is None:
         rest_speed = default_rest_speed(gravity, radii, restitution)
     rest_speed = np.broadcast_to(np.asarray(rest_speed, np.float64), (n,)).copy()

@@ -28,14 +28,18 @@ particles held still by their supports fall asleep (sleep.py): a sleeping partic
 is a fixed obstacle, like a wall, until a hit wakes it.
 
 Luding and McNamara's TC model, against inelastic collapse: a contact between two particles
-either of which collided less than Environment.tc ago is elastic (e = 1); tc = 0 turns it off.
-Contacts with walls and segments keep e (a body comes to rest on those instead: bodies.py). By default
+either of which collided less than Environment.tc ago is elastic (e = 1), and so is a contact
+with a wall or segment of a particle that collided with another less than tc ago (a ball
+rattling between the floor and the body above it); tc = 0 turns it off. A particle that only
+meets walls and segments keeps e (a ball settling into a vee, hitting each side ever sooner
+after the other, would otherwise bounce there for ever). By default
 (default_tc) tc is TC_SHARE of the time gravity takes to give a body its rest speed (sleep.py),
 about 1e-4 s for a ball of radius 0.5 under 9.81, and 0 wherever bodies never sleep (no gravity,
 or e = 1), so gases run exactly as without it. In a 200-ball pile dropped with e = 0, balls
 pressed together against a side wall collapsed: one took 13 000 collisions in a frame, and 8
 frames of each pile (seeds 1 and 2) ran out of their event budget, in 29-31 s of compute; with
-the default tc, 2 frames each, in 19-21 s (benchmarks/ccd_settling.py pile).
+the default tc none does (benchmarks/ccd_settling.py pile). With the model between particles
+only, 2 frames each still did: the ball was squeezed between a neighbour and the wall.
 
 Several contacts can happen at exactly the same time (symmetric set-ups: a ball
 hit from two mirrored sides, a billiard break). Solving them one after the
@@ -132,14 +136,16 @@ def _add(bodies, env, contacts, kind, i, j, other, nx, ny, x, y, can_rest):
         ax, ay = ax - bodies.acc[j, 0], ay - bodies.acc[j, 1]
         radius = min(radius, bodies.radius[j])
     approach = max(vx * nx + vy * ny, 0.0)
-    # TC model: two bodies, either hit within tc before, collide elastically (not a body and a
-    # wall or segment: those rest on them instead, bodies.py, and a ball settling into a vee,
-    # hitting each side ever sooner after the other, would bounce there for ever)
+    # TC model (see the module): two bodies, either hit within tc before, collide elastically; a
+    # body and a wall or segment only if the body was hit by another within tc before
     t = bodies.t_ref[i]
     # read unconditionally (j = -1 reads the last body's, unused): bodies is not used again, and a
     # namedtuple last used inside a branch costs a reference count per array per call (events.py)
-    hit_i, hit_j = bodies.last_hit[i], bodies.last_hit[j]
-    recent = j >= 0 and (t - hit_i < env.tc or t - hit_j < env.tc)
+    hit_i, hit_j, paired_i = bodies.last_hit[i], bodies.last_hit[j], bodies.last_pair_hit[i]
+    if kind == PAIR:
+        recent = t - hit_i < env.tc or (j >= 0 and t - hit_j < env.tc)
+    else:
+        recent = t - paired_i < env.tc
     restitution = 1.0 if recent else env.restitution
     contacts.kind[k], contacts.i[k], contacts.j[k], contacts.other[k] = kind, i, j, other
     contacts.nx[k], contacts.ny[k], contacts.x[k], contacts.y[k] = nx, ny, x, y
@@ -188,8 +194,11 @@ def mark_hits(bodies, contacts, t):
     for k in range(contacts.count[0]):
         if contacts.impulse[k] > 0.0:
             bodies.last_hit[contacts.i[k]] = t
+            if contacts.kind[k] == PAIR:
+                bodies.last_pair_hit[contacts.i[k]] = t
             if contacts.j[k] >= 0:
                 bodies.last_hit[contacts.j[k]] = t
+                bodies.last_pair_hit[contacts.j[k]] = t
 
 
 @njit(cache=True, error_model="numpy")
