@@ -42,9 +42,9 @@ speed, 60 s) has no frame over the budget, memory flat, overlaps ~1e-13 r, and c
 the discrete method at one substep per simulated second. A sleeper's weight goes on to the
 walls through the pile under it (carried.py), so a sleeping pile presses the floor with all
 its weight. Known limit: piles freeze looser than hexagonal close packing. 200 balls dropped at
-random (seeds 1 and 2), 10 s, with the default TC model (resolve.py): e = 0 +8.9 and +13.9 %
-in height, e = 0.5 +5.5 and +7.8 %, e = 0.9 +7.1 and +7.0 %; against the pymunk comparison
-mirror's pile from the same drop (10 substeps) +4.2 and +3.5 %, +0.1 and +2.4 %, +0.8 and +0.8 %. The bottom row freezes with gaps,
+random (seeds 1 and 2), 10 s, with the default TC model (resolve.py): e = 0 +9.5 and +11.4 %
+in height, e = 0.5 +12.2 and +11.4 %, e = 0.9 +4.8 and +4.7 %; against the pymunk comparison
+mirror's pile from the same drop (10 substeps) +4.7 and +1.2 %, +6.4 and +5.9 %, -1.4 and -1.3 %. The bottom row freezes with gaps,
 because a sleeper pushed aside slower than its rest speed stays a fixed obstacle (waking a
 sleeper on every push its supports cannot take was tried: it makes event storms, 10 million
 events in 8 s, and was not kept).
