@@ -30,7 +30,6 @@ import numpy as np
 from numba import njit
 
 from ..broadphase.step import AUTO, candidate_pairs, choose, step_state
-from ..geometry.box import centre_range
 from ..geometry.polygon import place_polygons
 from ..model.kinds import CIRCLE, N_WALLS, PAIR, SEGMENT, SUPPORT, WALL
 from ..narrowphase.hierarchy import NOT_COUNTED, level_scratch, record_levels
@@ -38,14 +37,14 @@ from ..response.rows import (margins, near_segments, new_found, new_rows, pair_m
                              segment_manifolds, wall_manifolds)
 from ..response.solver import collide, come_to_rest, solve_positions, solve_velocities
 from ..response.warmstart import no_memory, recall, remember
-from ..response.statics import bounce_between_walls
 from ..statics.segment_index import build_segment_index
 from .eventlog import append, log_events, new_log, with_room
+from .islands import all_still, fall_asleep, keep_sleepers, log_carried, new_sleep, sleepers_touching, wake_near
 from .integrate import integrate
 from .profile import Profile, cycles
-from .statics_paths import keep_start, map_phase, segment_phase, settle_in_map
+from .statics_paths import keep_start, settle_in_map, statics_phase, statics_scratch
 
-INTEGRATE, BROAD, NARROW, RESPONSE, STATICS, SETTLE, RECORD, TOTAL = range(8)
+INTEGRATE, BROAD, NARROW, RESPONSE, STATICS, SETTLE, SLEEP, RECORD, TOTAL = range(9)
 ITERATIONS = 20   # sweeps of the contact solver per step (response/solver.py)
 
 Bodies = namedtuple("Bodies", ["shapes", "positions", "velocities", "angles", "angular_velocities",
@@ -132,29 +131,41 @@ def sort_pairs(pairs, n):
 
 
 @njit(cache=True)
-def _contact_phases(bodies, statics, broad, dt, margin, lo, hi, vertices, moved, found, rows, phase_cycles, t):
+def _contact_phases(bodies, statics, broad, sleep, dt, margin, lo, hi, vertices, moved, found, rows, prior,
+                    phase_cycles, t):
     """broad and narrow: the step's contact rows, from the state at its start. vertices (V, 2)
     receives the polygons' world vertices; found and rows (response/rows.py) are kept from step
-    to step, grown when a step needs more. Returns (found, rows, count, candidate pairs, which of
-    them touch, t)."""
+    to step, grown when a step needs more. Sleepers a body comes near are woken first, and then
+    have their margins and pairs found again (engine/islands.py); prior: the (pairs, touching)
+    of the contact phase before, which pairs of sleepers keep (all of them when every body slept
+    already then: as in Box2D, a world asleep costs nothing). Returns (found, rows, count,
+    candidate pairs, which of them touch, t)."""
     b = bodies
     n = b.positions.shape[0]
+    if all_still(sleep, n) and prior[1].shape[0] == prior[0].shape[0]:
+        return found, rows, 0, prior[0], prior[1], t   # nothing moved since the phase before
     margins(b.velocities, b.angular_velocities, b.accelerations, b.radii, dt, margin)
     place_polygons(b.body_vertices, b.vertex_start, b.positions, b.angles, vertices)
     pairs = np.empty((0, 2), np.int64)
     if n >= 2:   # a lone body runs no pair phase
         _bounds(b, margin, lo, hi)
         pairs = sort_pairs(candidate_pairs(broad, lo, hi), n)
+        if wake_near(sleep, b, vertices, margin, pairs, moved, statics.volumes):
+            margins(b.velocities, b.angular_velocities, b.accelerations, b.radii, dt, margin)
+            _bounds(b, margin, lo, hi)
+            pairs = sort_pairs(candidate_pairs(broad, lo, hi), n)
         t = _lap(phase_cycles, BROAD, t)
     near = near_segments(b, margin, statics.segments)
     most = pairs.shape[0] + near + 4 * n   # a manifold a pair, a polygon and segment, a body and wall
     if found.shape[0] < most:
         found = new_found(most + most // 2)
     in_pair, touching = np.zeros(n, np.bool_), np.empty(pairs.shape[0], np.bool_)
-    k = pair_manifolds(b, vertices, margin, dt, pairs, found, 0, in_pair, touching, moved, statics.volumes)
-    k = wall_manifolds(b, vertices, margin, statics.box, statics.rest_speed, in_pair, found, k, statics.volumes)
+    k = pair_manifolds(b, vertices, margin, dt, pairs, found, 0, in_pair, touching, moved, statics.volumes, sleep.asleep)
+    sleepers_touching(sleep, b, vertices, pairs, touching, prior[0], prior[1], statics.volumes)
+    k = wall_manifolds(b, vertices, margin, statics.box, statics.rest_speed, in_pair, found, k, statics.volumes,
+                       sleep.asleep)
     if near > 0:
-        k = segment_manifolds(b, vertices, margin, statics.segments, found, k, statics.volumes)
+        k = segment_manifolds(b, vertices, margin, statics.segments, found, k, statics.volumes, sleep.asleep)
     if rows.i.shape[0] < 2 * k:   # up to two points a manifold
         rows = new_rows(3 * k)
     count = rows_from(found, k, b, rows)
@@ -186,56 +197,12 @@ def _log_contacts(rows, count, log, now, frame_collisions):
 
 
 @njit(cache=True)
-def statics_scratch(n, m):
-    """Buffers for statics_phase: segment contacts (room for one a body; grown when a step has
-    more), near segments (m,), the positions (n, 2) at the start of the step (the map
-    marches each step's move from there), and held (n, 2) bool: the axes on which the contact
-    solver held a body against a wall this step (it is clamped there, not bounced)."""
-    return (np.empty((n + 16, 2), np.int64), np.empty(max(m, 1), np.int64), np.empty((n, 2)),
-            np.zeros((n, 2), np.bool_))
-
-
-@njit(cache=True)
-def statics_phase(bodies, statics, scratch, dt, log, now, frame_collisions):
-    """Segments, then walls, in place; collisions added to frame_collisions (3,: wall, pair,
-    segment) and log. scratch from statics_scratch. Returns the log."""
-    b, s = bodies, statics
-    log = segment_phase(b, s, scratch, log, now, frame_collisions)
-    log = map_phase(b, s, scratch[2], dt, log, now, frame_collisions)
-    log = with_room(log, 4 * b.positions.shape[0])  # at most one event per body and wall
-    for i in range(b.positions.shape[0]):
-        if b.shapes[i] != CIRCLE:
-            continue   # a polygon meets the walls through the contact solver only
-        for axis in range(2):
-            low, high = centre_range(s.box, axis, b.radii[i])
-            if low <= b.positions[i, axis] <= high:
-                continue  # the extreme points are inside: no wall touched on this axis
-            if scratch[3][i, axis]:
-                b.positions[i, axis] = min(max(b.positions[i, axis], low), high)
-                continue  # held there by the solver: rounding past the wall is not a bounce
-            low_bounces, high_bounces, low_impulse, high_impulse = bounce_between_walls(
-                b.positions, b.velocities, b.accelerations, b.radii, b.masses, s.box, s.restitution, i, axis)
-            if low_bounces > 0:
-                _log_wall(log, now, b.positions, s.box, i, axis, 0, low_impulse)
-            if high_bounces > 0:
-                _log_wall(log, now, b.positions, s.box, i, axis, 1, high_impulse)
-            frame_collisions[WALL] += low_bounces + high_bounces
-    return log
-
-
-@njit(cache=True)
-def _log_wall(log, now, positions, box, i, axis, side, impulse):
-    """Log body i's bounce off wall 2·axis + side, at the wall beside the body."""
-    on_wall, along = box[axis + 2 * side], positions[i, 1 - axis]
-    x, y = (on_wall, along) if axis == 0 else (along, on_wall)
-    append(log, now, WALL, i, 2 * axis + side, impulse, x, y)
-
-
-@njit(cache=True)
-def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, memory, contacts, work, phase_cycles):
+def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log, memory, contacts, work,
+               phase_cycles):
     """Advance bodies in place by out's frame count, each frame `substeps` steps of dt, filling
     out (Frames) and appending every collision to log. memory: the contacts' impulses of the
     step before (response/warmstart.py); contacts: those the next step starts from (Contacts);
+    sleep: which bodies sleep (engine/islands.py), in place;
     work: the step's per-body arrays (Work). phase_cycles (8,) int64 receives the cycles per
     phase and their total. Returns (log, memory, contacts)."""
     start = cycles()
@@ -250,8 +217,10 @@ def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, memor
     touching = np.empty(0, np.bool_)   # each frame's is found by the contact phases before its record
     t = cycles()
     if count < 0:
-        found, rows, count, pairs, touching, t = _contact_phases(b, s, broad, dt, margin, lo, hi, vertices, moved,
-                                                                 found, rows, phase_cycles, t)
+        found, rows, count, pairs, touching, t = _contact_phases(b, s, broad, sleep, dt, margin, lo, hi, vertices,
+                                                                 moved, found, rows, (pairs, touching), phase_cycles,
+                                                                 t)
+    still_since_record = False   # every body asleep at the last frame recorded, none since
     for frame in range(out.positions.shape[0]):
         frame_collisions = out.collisions[frame]
         for _ in range(substeps):
@@ -259,31 +228,42 @@ def run_frames(bodies, statics, broad, dt, substeps, step_count, out, log, memor
             now = step_count * dt
             keep_start(s.map, scratch[2], b.positions)
             v, w, m, inertia = b.velocities, b.angular_velocities, inverse_masses, inverse_inertias   # 1/m, 1/I
-            collide(rows, count, v, w, b.accelerations, m, inertia, s.restitution, s.friction, s.rest_speed, dt,
-                    s.iterations)
-            recall(rows, count, memory, n, N_WALLS + s.segments.shape[0])
-            solve_velocities(rows, count, v, w, b.accelerations, m, inertia, s.friction, dt, s.iterations, push,
-                             push_turn)
-            solve_positions(rows, count, v, w, b.accelerations, m, inertia, dt, s.iterations, push, push_turn, shift,
-                            shift_turn)
+            if count > 0:
+                collide(rows, count, v, w, b.accelerations, m, inertia, s.restitution, s.friction, s.rest_speed, dt,
+                        s.iterations)
+                recall(rows, count, memory, n, N_WALLS + s.segments.shape[0])
+                solve_velocities(rows, count, v, w, b.accelerations, m, inertia, s.friction, dt, s.iterations, push,
+                                 push_turn)
+                solve_positions(rows, count, v, w, b.accelerations, m, inertia, dt, s.iterations, push, push_turn,
+                                shift, shift_turn)
             t = _lap(phase_cycles, RESPONSE, t)
             integrate(b.positions, b.velocities, b.accelerations, b.angles, b.angular_velocities, dt)
             if count > 0:
                 add_contact_motion(b, push, push_turn, shift, shift_turn, dt)
             t = _lap(phase_cycles, INTEGRATE, t)
-            come_to_rest(rows, count, v, w, m, inertia, s.friction)
-            log = _log_contacts(rows, count, log, now, frame_collisions)
-            memory = remember(rows, count, n, N_WALLS + s.segments.shape[0])
+            if count > 0:
+                come_to_rest(rows, count, v, w, m, inertia, s.friction)
+                log = _log_contacts(rows, count, log, now, frame_collisions)
+            log = log_carried(sleep, log, now)
+            memory = keep_sleepers(sleep, remember(rows, count, n, N_WALLS + s.segments.shape[0]), memory, n,
+                                   N_WALLS + s.segments.shape[0])
             _mark_held(rows, count, scratch[3])
             t = _lap(phase_cycles, RESPONSE, t)
             log = statics_phase(b, s, scratch, dt, log, now, frame_collisions)
             t = _lap(phase_cycles, STATICS, t)
             if count > 0 and settle_in_map(s.map, b.positions, b.radii):
                 t = _lap(phase_cycles, SETTLE, t)
-            found, rows, count, pairs, touching, t = _contact_phases(b, s, broad, dt, margin, lo, hi, vertices,
-                                                                     moved, found, rows, phase_cycles, t)
+            fall_asleep(sleep, b, rows, count, dt)
+            t = _lap(phase_cycles, SLEEP, t)
+            found, rows, count, pairs, touching, t = _contact_phases(b, s, broad, sleep, dt, margin, lo, hi,
+                                                                     vertices, moved, found, rows, (pairs, touching),
+                                                                     phase_cycles, t)
         out.candidates[frame] = pairs.shape[0]
-        record_levels(levels, b, pairs, vertices, touching, out.hierarchy[frame])
+        if frame > 0 and still_since_record and all_still(sleep, n):
+            out.hierarchy[frame] = out.hierarchy[frame - 1]   # the same state as the frame before
+        else:
+            record_levels(levels, b, pairs, vertices, touching, out.hierarchy[frame])
+        still_since_record = all_still(sleep, n)
         out.positions[frame] = b.positions
         out.velocities[frame] = b.velocities
         if out.angles.shape[1] == n:  # bodies that turn (see new_frames)
@@ -347,11 +327,13 @@ class DiscreteStepper:
     """Advances a copy of a world, a block of frames at a time."""
 
     def __init__(self, world, fps: float, substeps: int = 1, broadphase: str = "auto",
-                 profile: Profile | None = None):
+                 profile: Profile | None = None, rest_speed: float | None = None):
         w = world
+        # accelerations copied: a sleeping body's is 0 (engine/islands.py)
         self.bodies = Bodies(w.shapes, w.positions.copy(), w.velocities.copy(), w.angles.copy(),
-                             w.angular_velocities.copy(), w.accelerations, w.radii, w.masses, w.inertias,
+                             w.angular_velocities.copy(), w.accelerations.copy(), w.radii, w.masses, w.inertias,
                              w.vertex_start, w.body_vertices)
+        self.sleep = new_sleep(w, rest_speed)
         # None for what the world lacks: the step then compiles no path for it (statics_paths.py)
         index = build_segment_index(w.segments, w.box) if len(w.segments) else None
         field = None if w.map is None else w.map.field
@@ -384,8 +366,8 @@ class DiscreteStepper:
         out = new_frames(count, len(b.positions), turning)
         self.log.size[0] = 0
         self.log, self.memory, self.contacts = self.profile.timed(lambda phase_cycles: run_frames(
-            b, self.statics, self.broad, self.dt, self.substeps, self.step_count, out, self.log, self.memory,
-            self.contacts, self.work, phase_cycles))
+            b, self.statics, self.broad, self.sleep, self.dt, self.substeps, self.step_count, out, self.log,
+            self.memory, self.contacts, self.work, phase_cycles))
         self.step_count += count * self.substeps
         if not turning:
             out = constant_angles(out, b.angles.copy(), b.angular_velocities.copy())

@@ -18,7 +18,7 @@ from numba import njit
 from numba.extending import intrinsic
 
 # The discrete step's phases, in the order they run.
-PHASES = ("integrate", "broad", "narrow", "response", "statics", "settle", "record")
+PHASES = ("integrate", "broad", "narrow", "response", "statics", "settle", "sleep", "record")
 
 
 @intrinsic

@@ -15,7 +15,8 @@ from .discrete import DiscreteStepper, Frames
 
 # The methods, by the name a scene gives: each builds a stepper with run(count) -> (Frames, Events).
 METHODS = {
-    "discrete": lambda scene: DiscreteStepper(scene.world, scene.fps, scene.substeps, scene.broadphase),
+    "discrete": lambda scene: DiscreteStepper(scene.world, scene.fps, scene.substeps, scene.broadphase,
+                                              rest_speed=scene.rest_speed),
     "ccd": lambda scene: CCDStepper(scene.world, scene.fps, scene.frames, rest_speed=scene.rest_speed, tc=scene.tc),
 }
 

@@ -9,13 +9,16 @@ bounce and push-out — about forty compiles that a first run of particles_250 p
 never takes. A world with segments or a map compiles its own step, cached on its own. A field
 given anyway (no_map_field(), an empty index) takes the full path with its run-time checks.
 """
+import numpy as np
+from numba import njit
 from numba.core import types
 from numba.extending import overload
 
-from ..model.kinds import CIRCLE, MAP, SEGMENT
+from ..geometry.box import centre_range
+from ..model.kinds import CIRCLE, MAP, SEGMENT, WALL
 from ..narrowphase.statics import segment_contacts
 from ..response.map import bounce_off_map, push_out
-from ..response.statics import bounce_off_segment
+from ..response.statics import bounce_between_walls, bounce_off_segment
 from ..statics.map_field import has_map
 from .eventlog import append, with_room
 
@@ -27,7 +30,7 @@ def _lacks(statics_type, field: str) -> bool:
 
 def segment_phase(bodies, statics, scratch, log, now, frame_collisions):
     """Bounce bodies off the segments they touch, in place (compiled code only): each bounce
-    counted in frame_collisions[SEGMENT] and logged. scratch from discrete.statics_scratch.
+    counted in frame_collisions[SEGMENT] and logged. scratch from statics_scratch.
     Returns the log."""
     raise NotImplementedError("segment_phase is called from compiled code")
 
@@ -116,3 +119,49 @@ def _settle_in_map(field, positions, radii):
             push_out(field, positions, radii[i], i)
         return True
     return push_all_out
+
+
+@njit(cache=True)
+def statics_scratch(n, m):
+    """Buffers for statics_phase: segment contacts (room for one a body; grown when a step has
+    more), near segments (m,), the positions (n, 2) at the start of the step (the map
+    marches each step's move from there), and held (n, 2) bool: the axes on which the contact
+    solver held a body against a wall this step (it is clamped there, not bounced)."""
+    return (np.empty((n + 16, 2), np.int64), np.empty(max(m, 1), np.int64), np.empty((n, 2)),
+            np.zeros((n, 2), np.bool_))
+
+
+@njit(cache=True)
+def statics_phase(bodies, statics, scratch, dt, log, now, frame_collisions):
+    """Segments, then walls, in place; collisions added to frame_collisions (3,: wall, pair,
+    segment) and log. scratch from statics_scratch. Returns the log."""
+    b, s = bodies, statics
+    log = segment_phase(b, s, scratch, log, now, frame_collisions)
+    log = map_phase(b, s, scratch[2], dt, log, now, frame_collisions)
+    log = with_room(log, 4 * b.positions.shape[0])  # at most one event per body and wall
+    for i in range(b.positions.shape[0]):
+        if b.shapes[i] != CIRCLE:
+            continue   # a polygon meets the walls through the contact solver only
+        for axis in range(2):
+            low, high = centre_range(s.box, axis, b.radii[i])
+            if low <= b.positions[i, axis] <= high:
+                continue  # the extreme points are inside: no wall touched on this axis
+            if scratch[3][i, axis]:
+                b.positions[i, axis] = min(max(b.positions[i, axis], low), high)
+                continue  # held there by the solver: rounding past the wall is not a bounce
+            low_bounces, high_bounces, low_impulse, high_impulse = bounce_between_walls(
+                b.positions, b.velocities, b.accelerations, b.radii, b.masses, s.box, s.restitution, i, axis)
+            if low_bounces > 0:
+                _log_wall(log, now, b.positions, s.box, i, axis, 0, low_impulse)
+            if high_bounces > 0:
+                _log_wall(log, now, b.positions, s.box, i, axis, 1, high_impulse)
+            frame_collisions[WALL] += low_bounces + high_bounces
+    return log
+
+
+@njit(cache=True)
+def _log_wall(log, now, positions, box, i, axis, side, impulse):
+    """Log body i's bounce off wall 2·axis + side, at the wall beside the body."""
+    on_wall, along = box[axis + 2 * side], positions[i, 1 - axis]
+    x, y = (on_wall, along) if axis == 0 else (along, on_wall)
+    append(log, now, WALL, i, 2 * axis + side, impulse, x, y)

@@ -63,9 +63,10 @@ class Scene:
     method: str = "discrete"
     substeps: int = 1
     broadphase: str = "auto"
-    # ccd's contact model (engine/ccd/sleep.py, resolve.py): below rest_speed a body held still
-    # by what it touches falls asleep (None: the speed of a bounce a thousandth of its radius
-    # high under gravity when e < 1, else never; 0: never); a collision within tc seconds of a
+    # the contact model: below rest_speed a body falls asleep (ccd: held still by what it
+    # touches, engine/ccd/sleep.py; discrete: its whole island still for half a second,
+    # engine/islands.py; None: the speed of a bounce a thousandth of its radius high under
+    # gravity when e < 1, else never; 0: never); for ccd, a collision within tc seconds of a
     # body's last one is elastic (Luding and McNamara's TC model; None: a hundredth of the time
     # gravity takes to reach the rest speed, 0 where nothing sleeps; 0: off)
     rest_speed: Optional[float] = None

@@ -40,7 +40,7 @@ from ..geometry.polygon import oriented_box, place_polygons, polygon_bounds
 from ..model.kinds import CIRCLE
 from ..model.trajectory import LEVELS, NOT_COUNTED
 from .circles import circles_touch
-from .polygons import placed_polygons_touch, polygon_circle_touch
+from .manifold import shapes_touch
 
 SLACK = 1e-9         # polygons' volumes grown by this share of their bounding radius (see above)
 # a body's volumes, one row each: its box, then its oriented box's centre, axis and half extents
@@ -129,17 +129,6 @@ def _oriented_overlap(volumes, i, j):
     return True
 
 
-@njit(cache=True, error_model="numpy", inline="always")
-def _shapes_touch(shapes, positions, radii, vertices, start, i, j):
-    if shapes[i] == CIRCLE and shapes[j] == CIRCLE:
-        return circles_touch(positions, radii, i, j)
-    if shapes[j] == CIRCLE:
-        return polygon_circle_touch(vertices[start[i]:start[i + 1]], positions[j, 0], positions[j, 1], radii[j])
-    if shapes[i] == CIRCLE:
-        return polygon_circle_touch(vertices[start[j]:start[j + 1]], positions[i, 0], positions[i, 1], radii[i])
-    return placed_polygons_touch(vertices, start, i, j)   # no slices: they cost more than the test
-
-
 @njit(cache=True, error_model="numpy")
 def passes(level, shapes, positions, radii, vertices, start, volumes, i, j):
     """Does pair (i, j) pass `level` (an index into LEVELS) on its own?"""
@@ -149,7 +138,7 @@ def passes(level, shapes, positions, radii, vertices, start, volumes, i, j):
         return _boxes_overlap(volumes, i, j)
     if level == 2:
         return _oriented_overlap(volumes, i, j)
-    return _shapes_touch(shapes, positions, radii, vertices, start, i, j)
+    return shapes_touch(shapes, positions, radii, vertices, start, i, j)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -171,7 +160,7 @@ def _level(shapes, positions, radii, vertices, start, volumes, i, j):
     """Pair (i, j)'s level: how many tests it passes down the funnel, stopping at the first it
     fails."""
     level = _volume_level(shapes, positions, radii, volumes, i, j)
-    if level == 3 and _shapes_touch(shapes, positions, radii, vertices, start, i, j):
+    if level == 3 and shapes_touch(shapes, positions, radii, vertices, start, i, j):
         return 4
     return level
 
@@ -256,7 +245,7 @@ def count_levels(bodies, pairs, vertices, counts):
     place_polygons(b.body_vertices, b.vertex_start, b.positions, b.angles, vertices)
     touching = np.empty(pairs.shape[0], np.bool_)
     for p in range(pairs.shape[0]):
-        touching[p] = _shapes_touch(b.shapes, b.positions, b.radii, vertices, b.vertex_start, pairs[p, 0], pairs[p, 1])
+        touching[p] = shapes_touch(b.shapes, b.positions, b.radii, vertices, b.vertex_start, pairs[p, 0], pairs[p, 1])
     count_placed(b, pairs, vertices, frame_boxes(b.shapes, b.body_vertices, b.vertex_start),
                  np.empty((b.positions.shape[0], 10)), touching, counts)
 

@@ -24,8 +24,9 @@ from numba.core import types
 from numba.extending import overload
 
 from ..model.kinds import CIRCLE
-from .circles import circle_circle
-from .polygons import box_wall_halfplane, polygon_circle, polygon_halfplane, polygon_polygon, polygon_segment
+from .circles import circle_circle, circles_touch
+from .polygons import (box_wall_halfplane, placed_polygons_touch, polygon_circle, polygon_circle_touch,
+                       polygon_halfplane, polygon_polygon, polygon_segment)
 
 NONE = (1.0, 0.0, 0, -np.inf, 0.0, 0.0, 0.0, 0.0, 0.0)
 TOUCH = 1e-12   # of the coordinates' size: past any rounding of a shape moved to touch another
@@ -94,6 +95,18 @@ def pair_manifold(shapes, positions, radii, vertices, start, i, j, margin, moved
     return _polygons(vertices[start[i]:start[i + 1]], vertices[start[j]:start[j + 1]], margin, moved)
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def shapes_touch(shapes, positions, radii, vertices, start, i, j):
+    """Do the shapes of bodies i and j overlap or touch? (The exact test alone, no manifold.)"""
+    if shapes[i] == CIRCLE and shapes[j] == CIRCLE:
+        return circles_touch(positions, radii, i, j)
+    if shapes[j] == CIRCLE:
+        return polygon_circle_touch(vertices[start[i]:start[i + 1]], positions[j, 0], positions[j, 1], radii[j])
+    if shapes[i] == CIRCLE:
+        return polygon_circle_touch(vertices[start[j]:start[j + 1]], positions[i, 0], positions[i, 1], radii[i])
+    return placed_polygons_touch(vertices, start, i, j)   # no slices: they cost more than the test
+
+
 @njit(cache=True)
 def polygon_wall_manifold(vertices, start, i, box, wall, margin):
     """The manifold of polygon body i and one box wall (normal into the wall), with speculative
@@ -137,6 +150,11 @@ def body_pair_manifold(polygons, shapes, positions, radii, vertices, start, i, j
     raise NotImplementedError("body_pair_manifold is called from compiled code")
 
 
+def body_pair_touch(polygons, shapes, positions, radii, vertices, start, i, j):
+    """shapes_touch; for a world of circles (polygons None), circles_touch alone."""
+    raise NotImplementedError("body_pair_touch is called from compiled code")
+
+
 def body_wall_manifold(polygons, vertices, start, i, box, wall, margin):
     """polygon_wall_manifold; no contact for a world of circles (it has no polygon)."""
     raise NotImplementedError("body_wall_manifold is called from compiled code")
@@ -154,6 +172,14 @@ def _body_pair_manifold(polygons, shapes, positions, radii, vertices, start, i, 
             positions, radii, i, j, margin)
     return lambda polygons, shapes, positions, radii, vertices, start, i, j, margin, moved: pair_manifold(
         shapes, positions, radii, vertices, start, i, j, margin, moved)
+
+
+@overload(body_pair_touch)
+def _body_pair_touch(polygons, shapes, positions, radii, vertices, start, i, j):
+    if isinstance(polygons, types.NoneType):
+        return lambda polygons, shapes, positions, radii, vertices, start, i, j: circles_touch(positions, radii, i, j)
+    return lambda polygons, shapes, positions, radii, vertices, start, i, j: shapes_touch(
+        shapes, positions, radii, vertices, start, i, j)
 
 
 @overload(body_wall_manifold)

@@ -125,24 +125,44 @@ def _circles_at_contact(positions, velocities, radii, i, j, dt, m):
     return nx, ny, 1, -gap, x + radii[i] * nx, y + radii[i] * ny, 0.0, 0.0, 0.0
 
 
+@njit(cache=True, inline="always")
+def _circles_apart(positions, radii, i, j, reach):
+    """Are the bounding circles of bodies i and j farther apart than they can close (reach)?"""
+    dx, dy = positions[j, 0] - positions[i, 0], positions[j, 1] - positions[i, 1]
+    return dx * dx + dy * dy > (APART * (radii[i] + radii[j] + reach)) ** 2
+
+
 @njit(cache=True)
-def pair_manifolds(bodies, vertices, margin, dt, pairs, found, k, in_pair, touching, moved, polygons):
+def pair_reaches(bodies, vertices, margin, i, j, moved, polygons):
+    """Does pair_manifolds look at bodies i and j and find a point within the sum of their
+    margins (taken where they are, before a pair of circles is met at its time of contact)?"""
+    b, reach = bodies, margin[i] + margin[j]
+    if _circles_apart(b.positions, b.radii, i, j, reach):
+        return False
+    return _reaches(body_pair_manifold(polygons, b.shapes, b.positions, b.radii, vertices, b.vertex_start, i, j,
+                                       reach, moved), reach)
+
+
+@njit(cache=True)
+def pair_manifolds(bodies, vertices, margin, dt, pairs, found, k, in_pair, touching, moved, polygons, asleep):
     """Record after found[:k] the manifolds of pairs (p, 2) (canonical order, i < j) with a point
     closer than the sum of their margins; in_pair (n,) marks their bodies, and touching (p,)
     says of each pair whether its shapes touch now (the exact level of the bounding-volume
     funnel, narrowphase/hierarchy.py, read from the manifold the step needs anyway: circles by
     circles_touch, a polygon by its manifold's depth >= 0). Returns the new record count.
     moved: scratch for narrowphase/manifold.py; polygons: True, or None for a world of circles,
-    which then compiles no polygon path (manifold.body_pair_manifold)."""
+    which then compiles no polygon path (manifold.body_pair_manifold). asleep (n,) bool: a pair
+    of sleepers (engine/islands.py) has no manifold (its touching is left False)."""
     shapes, positions, velocities, radii = bodies.shapes, bodies.positions, bodies.velocities, bodies.radii
     start = bodies.vertex_start
     for c in range(pairs.shape[0]):
         i, j = pairs[c, 0], pairs[c, 1]
         touching[c] = False
         reach = margin[i] + margin[j]
-        dx, dy, apart = positions[j, 0] - positions[i, 0], positions[j, 1] - positions[i, 1], radii[i] + radii[j]
-        if dx * dx + dy * dy > (APART * (apart + reach)) ** 2:
+        if _circles_apart(positions, radii, i, j, reach):
             continue   # their bounding circles are farther apart than they can close
+        if asleep[i] and asleep[j]:
+            continue   # no contact (engine/islands.py finds their touching)
         m = body_pair_manifold(polygons, shapes, positions, radii, vertices, start, i, j, reach, moved)
         circles = shapes[i] == CIRCLE and shapes[j] == CIRCLE
         touching[c] = circles_touch(positions, radii, i, j) if circles else m[2] > 0 and m[3] >= 0.0
@@ -155,13 +175,16 @@ def pair_manifolds(bodies, vertices, margin, dt, pairs, found, k, in_pair, touch
 
 
 @njit(cache=True)
-def wall_manifolds(bodies, vertices, margin, box, rest_speed, in_pair, found, k, polygons):
+def wall_manifolds(bodies, vertices, margin, box, rest_speed, in_pair, found, k, polygons, asleep):
     """Record after found[:k] the manifolds of bodies held by a box wall (see the module's rule).
     in_pair (n,) bool: bodies in a pair's manifold; polygons as for pair_manifolds. Returns the
-    new record count. No overlap of a wall is tolerated: a wall cannot give way."""
+    new record count. No overlap of a wall is tolerated: a wall cannot give way. Sleepers (asleep
+    (n,) bool) have none: they rest on their walls as they fell asleep (engine/islands.py)."""
     shapes, positions, velocities, radii, start = (bodies.shapes, bodies.positions, bodies.velocities,
                                                    bodies.radii, bodies.vertex_start)
     for i in range(positions.shape[0]):
+        if asleep[i]:
+            continue
         for wall in range(4):
             axis, bound, inward = wall_geometry(box, wall, radii[i])
             gap = (positions[i, axis] - bound) * inward   # of the body's bounding circle
@@ -184,13 +207,14 @@ def wall_manifolds(bodies, vertices, margin, box, rest_speed, in_pair, found, k,
 
 
 @njit(cache=True)
-def segment_manifolds(bodies, vertices, margin, segments, found, k, polygons):
+def segment_manifolds(bodies, vertices, margin, segments, found, k, polygons, asleep):
     """Record after found[:k] the manifolds of polygons within their margin of a segment (m, 4):
     j = -1, wall = N_WALLS + the segment's number; polygons as for pair_manifolds. Returns the
-    new record count. A segment, like a wall, cannot give way: no overlap is tolerated."""
+    new record count. A segment, like a wall, cannot give way: no overlap is tolerated. Sleepers
+    (asleep (n,) bool) have none, as for wall_manifolds."""
     shapes, positions, radii, start = bodies.shapes, bodies.positions, bodies.radii, bodies.vertex_start
     for i in range(positions.shape[0]):
-        if shapes[i] == CIRCLE:
+        if shapes[i] == CIRCLE or asleep[i]:
             continue
         x, y, reach = positions[i, 0], positions[i, 1], radii[i] + margin[i]
         for s in range(segments.shape[0]):
