@@ -160,7 +160,8 @@ def _contact_phases(bodies, statics, broad, sleep, dt, margin, lo, hi, vertices,
     if found.shape[0] < most:
         found = new_found(most + most // 2)
     in_pair, touching = np.zeros(n, np.bool_), np.empty(pairs.shape[0], np.bool_)
-    k = pair_manifolds(b, vertices, margin, dt, pairs, found, 0, in_pair, touching, moved, statics.volumes, sleep.asleep)
+    k = pair_manifolds(b, vertices, margin, dt, pairs, found, 0, in_pair, touching, moved, statics.volumes,
+                       sleep.asleep)
     sleepers_touching(sleep, b, vertices, pairs, touching, prior[0], prior[1], statics.volumes)
     k = wall_manifolds(b, vertices, margin, statics.box, statics.rest_speed, in_pair, found, k, statics.volumes,
                        sleep.asleep)
@@ -203,8 +204,8 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
     out (Frames) and appending every collision to log. memory: the contacts' impulses of the
     step before (response/warmstart.py); contacts: those the next step starts from (Contacts);
     sleep: which bodies sleep (engine/islands.py), in place;
-    work: the step's per-body arrays (Work). phase_cycles (8,) int64 receives the cycles per
-    phase and their total. Returns (log, memory, contacts)."""
+    work: the step's per-body arrays (Work). phase_cycles (len(PHASES) + 1,) int64 receives the
+    cycles per phase (engine/profile.py) and their total. Returns (log, memory, contacts)."""
     start = cycles()
     b, s = bodies, statics
     n = b.positions.shape[0]
