@@ -62,19 +62,18 @@ Contacts.__doc__ = """The contacts the next step starts from, kept from block to
 each block's start cost a whole broad and narrow phase: a block is one frame at a million
 bodies): found and rows (response/rows.py, grown as needed), the rows' count (-1 before the
 first block: not found yet) and the candidate pairs (k, 2)."""
-Work = namedtuple("Work", ["lo", "hi", "margin", "push", "shift", "push_turn", "shift_turn", "vertices", "moved",
+Work = namedtuple("Work", ["lo", "hi", "margin", "push", "shift", "push_turn", "shift_turn", "vertices",
                            "inverse_masses", "inverse_inertias"])
 Work.__doc__ = """The step's per-body arrays, made once a run (made at every block, they were a tenth of a
 gigabyte a frame at a million bodies): the bounding boxes lo, hi (n, 2) and margins (n,) of
 the contact phases; the solver's push, shift (n, 2) and their turns (n,) (response/solver.py);
-the polygons' placed vertices and a scratch polygon; 1/m and 1/I (the solver multiplies)."""
+the polygons' placed vertices; 1/m and 1/I (the solver multiplies)."""
 
 
 def new_work(bodies) -> Work:
     n = len(bodies.positions)
     return Work(np.empty((n, 2)), np.empty((n, 2)), np.empty(n), np.zeros((n, 2)), np.zeros((n, 2)), np.zeros(n),
-                np.zeros(n), np.empty_like(bodies.body_vertices),
-                np.empty((_largest_polygon(bodies.vertex_start), 2)), 1.0 / bodies.masses, 1.0 / bodies.inertias)
+                np.zeros(n), np.empty_like(bodies.body_vertices), 1.0 / bodies.masses, 1.0 / bodies.inertias)
 
 
 Frames = namedtuple("Frames", ["positions", "velocities", "angles", "angular_velocities", "collisions",
@@ -131,7 +130,7 @@ def sort_pairs(pairs, n):
 
 
 @njit(cache=True)
-def _contact_phases(bodies, statics, broad, sleep, dt, margin, lo, hi, vertices, moved, found, rows, prior,
+def _contact_phases(bodies, statics, broad, sleep, dt, margin, lo, hi, vertices, found, rows, prior,
                     phase_cycles, t):
     """broad and narrow: the step's contact rows, from the state at its start. vertices (V, 2)
     receives the polygons' world vertices; found and rows (response/rows.py) are kept from step
@@ -150,7 +149,7 @@ def _contact_phases(bodies, statics, broad, sleep, dt, margin, lo, hi, vertices,
     if n >= 2:   # a lone body runs no pair phase
         _bounds(b, margin, lo, hi)
         pairs = sort_pairs(candidate_pairs(broad, lo, hi), n)
-        if wake_near(sleep, b, vertices, margin, pairs, moved, statics.volumes):
+        if wake_near(sleep, b, vertices, margin, pairs, statics.volumes):
             margins(b.velocities, b.angular_velocities, b.accelerations, b.radii, dt, margin)
             _bounds(b, margin, lo, hi)
             pairs = sort_pairs(candidate_pairs(broad, lo, hi), n)
@@ -160,7 +159,7 @@ def _contact_phases(bodies, statics, broad, sleep, dt, margin, lo, hi, vertices,
     if found.shape[0] < most:
         found = new_found(most + most // 2)
     in_pair, touching = np.zeros(n, np.bool_), np.empty(pairs.shape[0], np.bool_)
-    k = pair_manifolds(b, vertices, margin, dt, pairs, found, 0, in_pair, touching, moved, statics.volumes,
+    k = pair_manifolds(b, vertices, margin, dt, pairs, found, 0, in_pair, touching, statics.volumes,
                        sleep.asleep)
     sleepers_touching(sleep, b, vertices, pairs, touching, prior[0], prior[1], statics.volumes)
     k = wall_manifolds(b, vertices, margin, statics.box, statics.rest_speed, in_pair, found, k, statics.volumes,
@@ -209,7 +208,7 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
     start = cycles()
     b, s = bodies, statics
     n = b.positions.shape[0]
-    lo, hi, margin, push, shift, push_turn, shift_turn, vertices, moved, inverse_masses, inverse_inertias = work
+    lo, hi, margin, push, shift, push_turn, shift_turn, vertices, inverse_masses, inverse_inertias = work
     scratch = statics_scratch(n, s.segments.shape[0])
     levels = level_scratch(s.volumes, b)
     # each step's contacts are found from the state that ends the step before (so a frame's
@@ -219,7 +218,7 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
     t = cycles()
     if count < 0:
         found, rows, count, pairs, touching, t = _contact_phases(b, s, broad, sleep, dt, margin, lo, hi, vertices,
-                                                                 moved, found, rows, (pairs, touching), phase_cycles,
+                                                                 found, rows, (pairs, touching), phase_cycles,
                                                                  t)
     still_since_record = False   # every body asleep at the last frame recorded, none since
     for frame in range(out.positions.shape[0]):
@@ -257,7 +256,7 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
             fall_asleep(sleep, b, rows, count, dt)
             t = _lap(phase_cycles, SLEEP, t)
             found, rows, count, pairs, touching, t = _contact_phases(b, s, broad, sleep, dt, margin, lo, hi,
-                                                                     vertices, moved, found, rows, (pairs, touching),
+                                                                     vertices, found, rows, (pairs, touching),
                                                                      phase_cycles, t)
         out.candidates[frame] = pairs.shape[0]
         if frame > 0 and still_since_record and all_still(sleep, n):
@@ -287,14 +286,6 @@ def add_contact_motion(bodies, push, push_turn, shift, shift_turn, dt):
             b.velocities[i, axis] += 2.0 * push[i, axis]
         b.angles[i] += (push_turn[i] + shift_turn[i]) * dt
         b.angular_velocities[i] += 2.0 * push_turn[i]
-
-
-@njit(cache=True)
-def _largest_polygon(vertex_start):
-    most = 1
-    for i in range(vertex_start.shape[0] - 1):
-        most = max(most, vertex_start[i + 1] - vertex_start[i])
-    return most
 
 
 @njit(cache=True)

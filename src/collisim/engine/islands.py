@@ -166,10 +166,10 @@ def _wake_island(sleep, bodies, island):
 
 
 @njit(cache=True)
-def wake_near(sleep, bodies, vertices, margin, pairs, moved, polygons):
+def wake_near(sleep, bodies, vertices, margin, pairs, polygons):
     """Before a step's contacts are found: wake the island of every sleeper that a candidate
     pair (k, 2) puts within reach of an awake body (and so on, as woken bodies reach further
-    sleepers). Did any wake? vertices: the polygons' world vertices; moved, polygons as for
+    sleepers). Did any wake? vertices: the polygons' world vertices; polygons as for
     response/rows.py: pair_manifolds."""
     if sleep.sleeping[0] == 0:
         return False
@@ -178,7 +178,7 @@ def wake_near(sleep, bodies, vertices, margin, pairs, moved, polygons):
         again = False
         for c in range(pairs.shape[0]):
             i, j = pairs[c, 0], pairs[c, 1]
-            if sleep.asleep[i] != sleep.asleep[j] and pair_reaches(bodies, vertices, margin, i, j, moved, polygons):
+            if sleep.asleep[i] != sleep.asleep[j] and pair_reaches(bodies, vertices, margin, i, j, polygons):
                 _wake_island(sleep, bodies, sleep.island[i] if sleep.asleep[i] else sleep.island[j])
                 woke = again = True
     return woke

@@ -5,10 +5,13 @@ A manifold is narrowphase/polygons.py's tuple (nx, ny, count, depth0, px0, py0, 
 py1): the unit normal from the first body towards the second, and up to two points, each with
 its depth (negative: a gap) and its position midway between the two surfaces.
 
-Shapes apart by a gap g < margin are brought to touching by moving the second one back by g
-along the normal (for a circle: by growing it), their manifold taken there, and then the gap
-given back: every depth less by g, every point moved by g/2 along the normal. For convex shapes
-this is exact: moving along the axis of least separation keeps the same closest features.
+A circle, a wall or a segment apart from a shape by a gap g < margin is brought to touching it
+(the circle grown by the margin, the wall's plane moved, the segment moved back by g along the
+normal), the manifold taken there, and the gap given back: every depth less by g, every point
+moved by g/2 along the normal. For convex shapes this is exact: moving along the axis of least
+separation keeps the same closest features. Two polygons get theirs where they are
+(polygons.py: speculative_polygons): a vertex over a face from the separating-axis test itself,
+corner against corner from the closest points.
 
 The helpers of pair_manifold are inlined into it, and pair_manifold into the engine's pair loop,
 as polygons.py's are (a call costs a reference count of each array it is handed); a polygon's
@@ -26,7 +29,7 @@ from numba.extending import overload
 from ..model.kinds import CIRCLE
 from .circles import circle_circle, circles_touch
 from .polygons import (box_wall_halfplane, placed_polygons_touch, polygon_circle, polygon_circle_touch,
-                       polygon_halfplane, polygon_polygon, polygon_segment)
+                       polygon_halfplane, polygon_polygon, polygon_segment, speculative_polygons)
 
 NONE = (1.0, 0.0, 0, -np.inf, 0.0, 0.0, 0.0, 0.0, 0.0)
 TOUCH = 1e-12   # of the coordinates' size: past any rounding of a shape moved to touch another
@@ -66,25 +69,15 @@ def _polygon_circle(a, cx, cy, r, margin):
 
 
 @njit(cache=True, inline="always")
-def _polygons(a, b, margin, moved):
-    m = polygon_polygon(a, b, margin)     # farther apart than the margin along an axis: no contact
-    if m[2] > 0:
-        return m
-    gap = -m[3]
-    if gap >= margin:
-        return NONE
-    for k in range(b.shape[0]):     # b moved back to touching a
-        moved[k, 0], moved[k, 1] = b[k, 0] - gap * m[0], b[k, 1] - gap * m[1]
-    touching = polygon_polygon(a, moved[:b.shape[0]])
-    if touching[2] == 0:
-        return NONE
-    return _given_back(touching, gap)
+def _polygons(a, b, margin):
+    m = speculative_polygons(a, b, margin)   # touching, or closer than the margin: its manifold
+    return m if m[2] > 0 else NONE
 
 
 @njit(cache=True, inline="always")
-def pair_manifold(shapes, positions, radii, vertices, start, i, j, margin, moved):
+def pair_manifold(shapes, positions, radii, vertices, start, i, j, margin):
     """The manifold of bodies i and j (normal from i to j), with speculative points up to
-    `margin` apart; count 0 if they are farther. moved: scratch (>= the largest polygon, 2)."""
+    `margin` apart; count 0 if they are farther."""
     if shapes[i] == CIRCLE and shapes[j] == CIRCLE:
         return _circles(positions, radii, i, j, margin)
     if shapes[j] == CIRCLE:
@@ -92,7 +85,7 @@ def pair_manifold(shapes, positions, radii, vertices, start, i, j, margin, moved
     if shapes[i] == CIRCLE:
         return _flipped(_polygon_circle(vertices[start[j]:start[j + 1]], positions[i, 0], positions[i, 1], radii[i],
                                         margin))
-    return _polygons(vertices[start[i]:start[i + 1]], vertices[start[j]:start[j + 1]], margin, moved)
+    return _polygons(vertices[start[i]:start[i + 1]], vertices[start[j]:start[j + 1]], margin)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -145,7 +138,7 @@ def polygon_segment_manifold(vertices, start, i, segments, k, margin):
 # engine/statics_paths.py does for segments and maps), so a world of circles compiles none of
 # the polygon paths: the separating axes, the clipping, the half-planes (about 5 s of a first run).
 
-def body_pair_manifold(polygons, shapes, positions, radii, vertices, start, i, j, margin, moved):
+def body_pair_manifold(polygons, shapes, positions, radii, vertices, start, i, j, margin):
     """pair_manifold; for a world of circles (polygons None), the circles' manifold alone."""
     raise NotImplementedError("body_pair_manifold is called from compiled code")
 
@@ -166,12 +159,12 @@ def body_segment_manifold(polygons, vertices, start, i, segments, k, margin):
 
 
 @overload(body_pair_manifold)
-def _body_pair_manifold(polygons, shapes, positions, radii, vertices, start, i, j, margin, moved):
+def _body_pair_manifold(polygons, shapes, positions, radii, vertices, start, i, j, margin):
     if isinstance(polygons, types.NoneType):
-        return lambda polygons, shapes, positions, radii, vertices, start, i, j, margin, moved: _circles(
+        return lambda polygons, shapes, positions, radii, vertices, start, i, j, margin: _circles(
             positions, radii, i, j, margin)
-    return lambda polygons, shapes, positions, radii, vertices, start, i, j, margin, moved: pair_manifold(
-        shapes, positions, radii, vertices, start, i, j, margin, moved)
+    return lambda polygons, shapes, positions, radii, vertices, start, i, j, margin: pair_manifold(
+        shapes, positions, radii, vertices, start, i, j, margin)
 
 
 @overload(body_pair_touch)

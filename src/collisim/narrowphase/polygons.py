@@ -143,6 +143,14 @@ def _apart(ax, ay, bx, by, distance):
     return nx, ny, 0, -distance, 0.0, 0.0, 0.0, 0.0, 0.0
 
 
+@njit(cache=True, error_model="numpy")
+def _corner(ax, ay, bx, by, distance):
+    """The speculative manifold of two shapes `distance` apart whose closest points a and b are
+    corners: one point, midway between them, along the line that joins them."""
+    nx, ny = (bx - ax) / distance, (by - ay) / distance
+    return nx, ny, 1, -distance, 0.5 * (ax + bx), 0.5 * (ay + by), 0.0, 0.0, 0.0
+
+
 @njit(cache=True, error_model="numpy", inline="always")
 def _incident_edge(p, deepest, nx, ny):
     """Of the two edges of polygon p at its deepest vertex, the start of the one whose outward
@@ -196,12 +204,13 @@ def _clip_to_face(ref, face, inc, edge):
 
 
 @njit(cache=True, error_model="numpy")
-def _two_points(nx, ny, px, py, depth_p, qx, qy, depth_q):
-    """A manifold from two candidate points: those at depth >= 0, deepest first (one when
-    both are the same point, as at a corner touching a face's end)."""
+def _two_points(nx, ny, px, py, depth_p, qx, qy, depth_q, reach):
+    """A manifold from two candidate points: those at depth >= -reach (0 for shapes that touch;
+    a speculative manifold's margin), deepest first (one when both are the same point, as at a corner
+    touching a face's end)."""
     if depth_q > depth_p:
         px, py, depth_p, qx, qy, depth_q = qx, qy, depth_q, px, py, depth_p
-    if depth_q < 0.0 or (qx == px and qy == py):
+    if depth_q + reach < 0.0 or (qx == px and qy == py):
         return nx, ny, 1, depth_p, px, py, 0.0, 0.0, 0.0
     return nx, ny, 2, depth_p, px, py, depth_q, qx, qy
 
@@ -213,26 +222,61 @@ def polygon_polygon(a, b, beyond=np.inf):
     more than FACE_TOLERANCE. Polygons an axis separates by `beyond` (> 0) or more are not
     measured further (their distance is at least that, and finding it costs every vertex against
     every edge): count 0 and depth0 = -(that separation)."""
+    return _polygons_manifold(a, b, beyond, False)
+
+
+@njit(cache=True, error_model="numpy")
+def speculative_polygons(a, b, margin):
+    """polygon_polygon, except for polygons apart by less than `margin` (> 0) whose closest
+    features are a face and a vertex (the vertex lies in front of the face, not beyond its
+    ends): their manifold taken where they are — the face's normal, the incident edge clipped to
+    the face, each point with its depth (-gap for the nearest; the other kept if it is within
+    the margin too), midway between the surfaces. The gap is then the separating-axis test's own separation (a vertex over a face
+    is exactly that far), so neither the closest points (every vertex against every edge) nor a
+    second test is needed. Closer than `margin` otherwise (corner against corner): one point,
+    midway between the closest points, depth -distance. Farther: as polygon_polygon."""
+    return _polygons_manifold(a, b, margin, True)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _over_face(ref, face, p):
+    """Does point p lie in front of reference face `face` of polygon ref, between its ends?"""
+    r1 = _next(face, ref.shape[0])
+    ex, ey = ref[r1, 0] - ref[face, 0], ref[r1, 1] - ref[face, 1]
+    along = ex * (p[0] - ref[face, 0]) + ey * (p[1] - ref[face, 1])
+    return 0.0 <= along <= ex * ex + ey * ey
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _polygons_manifold(a, b, beyond, speculative):
     separation_a, face_a, deepest_b = _max_separation(a, b)
     separation_b, face_b, deepest_a = _max_separation(b, a)
-    if max(separation_a, separation_b) >= beyond > 0.0:
-        return 1.0, 0.0, 0, -max(separation_a, separation_b), 0.0, 0.0, 0.0, 0.0, 0.0
-    if separation_a > 0.0 or separation_b > 0.0:
-        distance, ax, ay, bx, by = _closest_points(a, b)
-        if distance > 0.0:
-            return _apart(ax, ay, bx, by, distance)
-        # an axis separates them by a rounding error while a vertex lies on the other: they
-        # touch (no normal joins two closest points that coincide), so the faces' manifold
+    separation = max(separation_a, separation_b)
+    if separation >= beyond > 0.0:
+        return 1.0, 0.0, 0, -separation, 0.0, 0.0, 0.0, 0.0, 0.0
     tolerance = FACE_TOLERANCE * min(_edge_length(a, face_a), _edge_length(b, face_b))
     flip = separation_b > separation_a + tolerance
     ref, face, inc, deepest = (b, face_b, a, deepest_a) if flip else (a, face_a, b, deepest_b)
+    gap = 0.0
+    if separation > 0.0:
+        if (speculative and separation < beyond and (separation_b if flip else separation_a) == separation
+                and _over_face(ref, face, inc[deepest])):
+            gap = separation   # a vertex in front of a face: the gap is the separation
+        else:
+            distance, ax, ay, bx, by = _closest_points(a, b)
+            if distance > 0.0:
+                if speculative and distance < beyond:   # corner against corner: one point
+                    return _corner(ax, ay, bx, by, distance)
+                return _apart(ax, ay, bx, by, distance)
+            # an axis separates them by a rounding error while a vertex lies on the other: they
+            # touch (no normal joins two closest points that coincide), so the faces' manifold
     r1 = _next(face, ref.shape[0])
     ex, ey = ref[r1, 0] - ref[face, 0], ref[r1, 1] - ref[face, 1]
     size = length(ex, ey)
     nx, ny = ey / size, -ex / size              # the reference face's outward normal
     edge = _incident_edge(inc, deepest, nx, ny)
     kept, px, py, depth_p, qx, qy, depth_q = _clip_to_face(ref, face, inc, edge)
-    if not kept or max(depth_p, depth_q) < 0.0:
+    if not kept or max(depth_p, depth_q) + gap < 0.0:
         # Only round-off can cut the deepest vertex off the face (the closest point of the
         # Minkowski difference lies on the face): then it is the one contact.
         px, py, depth_p = inc[deepest, 0], inc[deepest, 1], -(separation_b if flip else separation_a)
@@ -242,7 +286,9 @@ def polygon_polygon(a, b, beyond=np.inf):
     qx, qy = qx + 0.5 * depth_q * nx, qy + 0.5 * depth_q * ny
     if flip:
         nx, ny = -nx, -ny                           # the normal runs from a to b
-    return _two_points(nx, ny, px, py, depth_p, qx, qy, depth_q)
+    # apart, both points within the margin count (speculative points act only if the step would
+    # close their gap, as in Box2D; the walls' manifolds keep theirs so too)
+    return _two_points(nx, ny, px, py, depth_p, qx, qy, depth_q, beyond if gap > 0.0 else 0.0)
 
 
 @njit(cache=True, error_model="numpy", inline="always")

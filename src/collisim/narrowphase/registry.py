@@ -42,15 +42,11 @@ def contact(shapes, positions, radii, i, j):
 def contact_table(shapes, positions, radii, vertices, start, candidates, polygons):
     """One row (i, j, nx, ny, depth, px, py) per contact point of the candidate pairs (k, 2).
     polygons: True, or None for a world of circles (which then compiles no polygon path)."""
-    most = 1
-    for i in range(start.shape[0] - 1):
-        most = max(most, start[i + 1] - start[i])
-    moved = np.empty((most, 2))
     table = np.empty((2 * candidates.shape[0], 7))
     count = 0
     for c in range(candidates.shape[0]):
         i, j = candidates[c, 0], candidates[c, 1]
-        m = body_pair_manifold(polygons, shapes, positions, radii, vertices, start, i, j, 0.0, moved)
+        m = body_pair_manifold(polygons, shapes, positions, radii, vertices, start, i, j, 0.0)
         for k in range(m[2]):
             depth, px, py = (m[3], m[4], m[5]) if k == 0 else (m[6], m[7], m[8])
             table[count, 0], table[count, 1], table[count, 2], table[count, 3] = i, j, m[0], m[1]

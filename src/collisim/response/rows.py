@@ -133,24 +133,24 @@ def _circles_apart(positions, radii, i, j, reach):
 
 
 @njit(cache=True)
-def pair_reaches(bodies, vertices, margin, i, j, moved, polygons):
+def pair_reaches(bodies, vertices, margin, i, j, polygons):
     """Does pair_manifolds look at bodies i and j and find a point within the sum of their
     margins (taken where they are, before a pair of circles is met at its time of contact)?"""
     b, reach = bodies, margin[i] + margin[j]
     if _circles_apart(b.positions, b.radii, i, j, reach):
         return False
     return _reaches(body_pair_manifold(polygons, b.shapes, b.positions, b.radii, vertices, b.vertex_start, i, j,
-                                       reach, moved), reach)
+                                       reach), reach)
 
 
 @njit(cache=True)
-def pair_manifolds(bodies, vertices, margin, dt, pairs, found, k, in_pair, touching, moved, polygons, asleep):
+def pair_manifolds(bodies, vertices, margin, dt, pairs, found, k, in_pair, touching, polygons, asleep):
     """Record after found[:k] the manifolds of pairs (p, 2) (canonical order, i < j) with a point
     closer than the sum of their margins; in_pair (n,) marks their bodies, and touching (p,)
     says of each pair whether its shapes touch now (the exact level of the bounding-volume
     funnel, narrowphase/hierarchy.py, read from the manifold the step needs anyway: circles by
     circles_touch, a polygon by its manifold's depth >= 0). Returns the new record count.
-    moved: scratch for narrowphase/manifold.py; polygons: True, or None for a world of circles,
+    polygons: True, or None for a world of circles,
     which then compiles no polygon path (manifold.body_pair_manifold). asleep (n,) bool: a pair
     of sleepers (engine/islands.py) has no manifold (its touching is left False)."""
     shapes, positions, velocities, radii = bodies.shapes, bodies.positions, bodies.velocities, bodies.radii
@@ -163,7 +163,7 @@ def pair_manifolds(bodies, vertices, margin, dt, pairs, found, k, in_pair, touch
             continue   # their bounding circles are farther apart than they can close
         if asleep[i] and asleep[j]:
             continue   # no contact (engine/islands.py finds their touching)
-        m = body_pair_manifold(polygons, shapes, positions, radii, vertices, start, i, j, reach, moved)
+        m = body_pair_manifold(polygons, shapes, positions, radii, vertices, start, i, j, reach)
         circles = shapes[i] == CIRCLE and shapes[j] == CIRCLE
         touching[c] = circles_touch(positions, radii, i, j) if circles else m[2] > 0 and m[3] >= 0.0
         if circles and m[2] == 1 and m[3] < 0.0:
