@@ -141,7 +141,8 @@ def _contact_phases(bodies, statics, broad, sleep, dt, margin, lo, hi, vertices,
     candidate pairs, which of them touch, t)."""
     b = bodies
     n = b.positions.shape[0]
-    if all_still(sleep, n) and prior[1].shape[0] == prior[0].shape[0]:
+    # (each sleeping call guarded here: a call hands numba every array of the tuples it takes)
+    if sleep.sleeping[0] == n > 0 and all_still(sleep, n) and prior[1].shape[0] == prior[0].shape[0]:
         return found, rows, 0, prior[0], prior[1], t   # nothing moved since the phase before
     margins(b.velocities, b.angular_velocities, b.accelerations, b.radii, dt, margin)
     place_polygons(b.body_vertices, b.vertex_start, b.positions, b.angles, vertices)
@@ -149,7 +150,7 @@ def _contact_phases(bodies, statics, broad, sleep, dt, margin, lo, hi, vertices,
     if n >= 2:   # a lone body runs no pair phase
         _bounds(b, margin, lo, hi)
         pairs = sort_pairs(candidate_pairs(broad, lo, hi), n)
-        if wake_near(sleep, b, vertices, margin, pairs, statics.volumes):
+        if sleep.sleeping[0] > 0 and wake_near(sleep, b, vertices, margin, pairs, statics.volumes):
             margins(b.velocities, b.angular_velocities, b.accelerations, b.radii, dt, margin)
             _bounds(b, margin, lo, hi)
             pairs = sort_pairs(candidate_pairs(broad, lo, hi), n)
@@ -161,7 +162,8 @@ def _contact_phases(bodies, statics, broad, sleep, dt, margin, lo, hi, vertices,
     in_pair, touching = np.zeros(n, np.bool_), np.empty(pairs.shape[0], np.bool_)
     k = pair_manifolds(b, vertices, margin, dt, pairs, found, 0, in_pair, touching, statics.volumes,
                        sleep.asleep)
-    sleepers_touching(sleep, b, vertices, pairs, touching, prior[0], prior[1], statics.volumes)
+    if sleep.sleeping[0] > 0:
+        sleepers_touching(sleep, b, vertices, pairs, touching, prior[0], prior[1], statics.volumes)
     k = wall_manifolds(b, vertices, margin, statics.box, statics.rest_speed, in_pair, found, k, statics.volumes,
                        sleep.asleep)
     if near > 0:
@@ -244,26 +246,29 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
             if count > 0:
                 come_to_rest(rows, count, v, w, m, inertia, s.friction)
                 log = _log_contacts(rows, count, log, now, frame_collisions)
-            log = log_carried(sleep, log, now)
-            memory = keep_sleepers(sleep, remember(rows, count, n, N_WALLS + s.segments.shape[0]), memory, n,
-                                   N_WALLS + s.segments.shape[0])
+            if sleep.carried_count[0] > 0:
+                log = log_carried(sleep, log, now)
+            remembered = remember(rows, count, n, N_WALLS + s.segments.shape[0])
+            memory = (keep_sleepers(sleep, remembered, memory, n, N_WALLS + s.segments.shape[0])
+                      if sleep.sleeping[0] > 0 else remembered)
             _mark_held(rows, count, scratch[3])
             t = _lap(phase_cycles, RESPONSE, t)
             log = statics_phase(b, s, scratch, dt, log, now, frame_collisions)
             t = _lap(phase_cycles, STATICS, t)
             if count > 0 and settle_in_map(s.map, b.positions, b.radii):
                 t = _lap(phase_cycles, SETTLE, t)
-            fall_asleep(sleep, b, rows, count, dt)
+            if sleep.on:
+                fall_asleep(sleep, b, rows, count, dt)
             t = _lap(phase_cycles, SLEEP, t)
             found, rows, count, pairs, touching, t = _contact_phases(b, s, broad, sleep, dt, margin, lo, hi,
                                                                      vertices, found, rows, (pairs, touching),
                                                                      phase_cycles, t)
         out.candidates[frame] = pairs.shape[0]
-        if frame > 0 and still_since_record and all_still(sleep, n):
+        if frame > 0 and still_since_record and sleep.sleeping[0] == n and all_still(sleep, n):
             out.hierarchy[frame] = out.hierarchy[frame - 1]   # the same state as the frame before
         else:
             record_levels(levels, b, pairs, vertices, touching, out.hierarchy[frame])
-        still_since_record = all_still(sleep, n)
+        still_since_record = sleep.sleeping[0] == n > 0 and all_still(sleep, n)
         out.positions[frame] = b.positions
         out.velocities[frame] = b.velocities
         if out.angles.shape[1] == n:  # bodies that turn (see new_frames)
