@@ -67,7 +67,6 @@ STALL_AFTER = 10
 # as the whole velocity solve. Measured on the polygons scene's pile, four sweeps and twenty
 # hold the same stacks and piles (tests/test_solver.py, test_polygon_engine.py).
 REST_SWEEPS = 4
-POSITION_SWEEPS = 10
 
 @njit(cache=True)
 def collide(rows, count, lin, ang, accelerations, inverse_masses, inverse_inertias, restitution, friction, rest_speed,
@@ -245,7 +244,7 @@ def solve_positions(rows, count, lin, ang, accelerations, inverse_masses, invers
                      + relative(load(push_lin, push_ang, i, j), j, nx, ny, L[r, 0], L[r, 2]))
         goal[k] = POSITION_RATE * (-gap[r] - slop[r]) / dt
     scale = 0.0
-    for _ in range(min(iterations, POSITION_SWEEPS)):
+    for _ in range(iterations):
         change = 0.0
         for k in range(over.shape[0]):
             r = over[k]
