@@ -131,3 +131,12 @@ def test_the_funnel_counts_the_pairs_of_sleepers():
     for frame in (10, 89):                                            # awake, then asleep
         counts = hierarchy(world, trajectory.positions[frame], trajectory.angles[frame])["counts"]
         assert trajectory.hierarchy[frame].tolist() == counts.tolist()
+
+
+def test_a_floor_of_boxes_falls_asleep_with_two_support_rows_each():
+    """Twenty boxes lying apart on the floor: each its own island, each resting on two points."""
+    world = World([(0.6 + 1.2 * k, 0.25) for k in range(20)], polygons=[box(1.0, 0.5)] * 20,
+                  box=(0, 0, 25, 5), gravity=(0, -G), restitution=0.0)
+    stepper, asleep = sleepers(world, 60)
+    assert asleep[-1] == world.n
+    assert stepper.sleep.carried_count[0] == 2 * world.n

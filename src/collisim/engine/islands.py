@@ -33,7 +33,7 @@ import numpy as np
 from numba import njit
 
 from ..geometry.vector import length
-from ..model.kinds import SUPPORT
+from ..model.kinds import CIRCLE, SUPPORT
 from ..narrowphase.manifold import body_pair_touch
 from ..response.rows import pair_reaches
 from ..response.warmstart import Memory
@@ -56,9 +56,12 @@ def new_sleep(world, rest_speed=None) -> Sleep:
     speed = np.broadcast_to(np.asarray(rest_speed, np.float64), (n,)).copy()
     on = bool(np.any(speed > 0.0))
     m = n if on else 0
+    # room for the carried support: a row a body on a wall, two for a polygon's face (and some
+    # for bodies in corners); an island with more does not sleep
+    room = (2 * m if np.any(world.shapes != CIRCLE) else m) + 16 if on else 0
     return Sleep(on, speed, np.zeros(m), np.zeros(n, np.bool_), np.zeros(m, np.bool_), np.zeros(m, np.int64),
                  np.array(world.accelerations[:m], np.float64), np.empty(m, np.int64), np.empty(m),
-                 np.empty((m + 16 if on else 0, 5)), np.zeros(1, np.int64), np.zeros(1, np.int64))
+                 np.empty((room, 5)), np.zeros(1, np.int64), np.zeros(1, np.int64))
 
 
 @njit(cache=True, inline="always")
@@ -122,7 +125,7 @@ def fall_asleep(sleep, bodies, rows, count, dt):
     for r in range(count):
         need += rows.j[r] < 0 and rows.impulse[r] > 0.0 and least[_root(parent, rows.i[r])] >= SLEEP_TIME
     if k + need > carried.shape[0]:
-        return   # no room for their support (more than a row a body): they stay awake
+        return   # no room for their support (see new_sleep): they stay awake
     for r in range(count):
         if rows.j[r] < 0 and rows.impulse[r] > 0.0 and least[_root(parent, rows.i[r])] >= SLEEP_TIME:
             carried[k, 0], carried[k, 1], carried[k, 2] = rows.i[r], rows.wall[r], rows.impulse[r]
