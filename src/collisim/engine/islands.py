@@ -36,7 +36,7 @@ from ..geometry.vector import length
 from ..model.kinds import CIRCLE, SUPPORT
 from ..narrowphase.manifold import body_pair_touch
 from ..response.rows import pair_reaches
-from ..response.warmstart import Memory
+from ..response.warmstart import Memory, key_bodies
 from .ccd.sleep import default_rest_speed
 from .eventlog import append, with_room
 
@@ -102,6 +102,12 @@ def _count_still(sleep, bodies, dt):
     return ready
 
 
+@njit(cache=True, inline="always")
+def _carried(rows, r, parent, least):
+    """Is row r the support of a body on a wall or segment, in an island that falls asleep?"""
+    return rows.j[r] < 0 and rows.impulse[r] > 0.0 and least[_root(parent, rows.i[r])] >= SLEEP_TIME
+
+
 @njit(cache=True)
 def fall_asleep(sleep, bodies, rows, count, dt):
     """After a step whose contact rows (rows[:count]) were solved: count each body's still time,
@@ -123,11 +129,11 @@ def fall_asleep(sleep, bodies, rows, count, dt):
     carried, k = sleep.carried, sleep.carried_count[0]
     need = 0
     for r in range(count):
-        need += rows.j[r] < 0 and rows.impulse[r] > 0.0 and least[_root(parent, rows.i[r])] >= SLEEP_TIME
+        need += _carried(rows, r, parent, least)
     if k + need > carried.shape[0]:
         return   # no room for their support (see new_sleep): they stay awake
     for r in range(count):
-        if rows.j[r] < 0 and rows.impulse[r] > 0.0 and least[_root(parent, rows.i[r])] >= SLEEP_TIME:
+        if _carried(rows, r, parent, least):
             carried[k, 0], carried[k, 1], carried[k, 2] = rows.i[r], rows.wall[r], rows.impulse[r]
             carried[k, 3], carried[k, 4] = rows.point[r, 0], rows.point[r, 1]
             k += 1
@@ -216,7 +222,7 @@ def sleepers_touching(sleep, bodies, vertices, pairs, touching, prior_pairs, pri
 def _sleeps(asleep, key, n, statics):
     """Do the bodies of warmstart.row_key's contact `key` sleep (a wall or segment always does)?
     (Handed one array, not the Sleep tuple: a call costs a reference count of every array.)"""
-    i, other = (key // 2) // (n + statics), (key // 2) % (n + statics)
+    i, other = key_bodies(key, n, statics)
     return asleep[i] and (other >= n or asleep[other])
 
 

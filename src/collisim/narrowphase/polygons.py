@@ -231,10 +231,11 @@ def speculative_polygons(a, b, margin):
     features are a face and a vertex (the vertex lies in front of the face, not beyond its
     ends): their manifold taken where they are — the face's normal, the incident edge clipped to
     the face, each point with its depth (-gap for the nearest; the other kept if it is within
-    the margin too), midway between the surfaces. The gap is then the separating-axis test's own separation (a vertex over a face
-    is exactly that far), so neither the closest points (every vertex against every edge) nor a
-    second test is needed. Closer than `margin` otherwise (corner against corner): one point,
-    midway between the closest points, depth -distance. Farther: as polygon_polygon."""
+    the margin too), midway between the surfaces. The gap is then the separating-axis test's own
+    separation (a vertex over a face is exactly that far), so neither the closest points (every
+    vertex against every edge) nor a second test is needed. Closer than `margin` otherwise
+    (corner against corner): one point, midway between the closest points, depth -distance.
+    Farther: as polygon_polygon."""
     return _polygons_manifold(a, b, margin, True)
 
 

@@ -38,6 +38,12 @@ def row_key(rows, r, n, statics=N_WALLS):
     return 2 * (rows.i[r] * (n + statics) + other) + rows.feature[r]
 
 
+@njit(cache=True, inline="always")
+def key_bodies(key, n, statics=N_WALLS):
+    """The contact row_key names: (i, other), other being body j, or n + the wall or segment."""
+    return (key // 2) // (n + statics), (key // 2) % (n + statics)
+
+
 @njit(cache=True)
 def remember(rows, count, n, statics=N_WALLS):
     """The impulses of this step's pressed rows that were not impacts."""
