@@ -15,6 +15,7 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
+from ...compiling import uncounted
 from ...model.kinds import SEGMENT
 
 assert SEGMENT < 3  # the bookkeeping kinds below sort after every collision kind
@@ -36,19 +37,19 @@ def new_queue(capacity):
                       np.empty(capacity, np.int64), np.zeros(1, np.int64))
 
 
-@njit(cache=True, error_model="numpy")
+@uncounted
 def event_key(kind, i, j, base):
     """Pack (kind, i, j), each of i, j < base, into an integer ordered like the tuple."""
     return (kind * base + i) * base + j
 
 
-@njit(cache=True, error_model="numpy")
+@uncounted
 def key_parts(key, base):
     """(kind, i, j) from event_key."""
     return key // (base * base), (key // base) % base, key % base
 
 
-@njit(cache=True, error_model="numpy")
+@uncounted
 def is_current(queue, slot, counters, base):
     """Were the counters of the event's particles unchanged since it was predicted?"""
     kind, i, j = key_parts(queue.key[slot], base)
@@ -56,13 +57,13 @@ def is_current(queue, slot, counters, base):
     return count_i == counters[i] and (count_j < 0 or count_j == counters[j])
 
 
-@njit(cache=True, error_model="numpy")
+@uncounted
 def _before(time_a, key_a, time_b, key_b):
     """Does event a come before event b? By time, ties by key."""
     return time_a < time_b or (time_a == time_b and key_a < key_b)
 
 
-@njit(cache=True, error_model="numpy")
+@uncounted
 def _swap(queue, a, b):
     queue.time[a], queue.time[b] = queue.time[b], queue.time[a]
     queue.key[a], queue.key[b] = queue.key[b], queue.key[a]
@@ -70,7 +71,7 @@ def _swap(queue, a, b):
     queue.count_j[a], queue.count_j[b] = queue.count_j[b], queue.count_j[a]
 
 
-@njit(cache=True, error_model="numpy")
+@uncounted
 def _sift_up(queue, slot):
     time, key = queue.time, queue.key
     while slot > 0:
@@ -81,7 +82,7 @@ def _sift_up(queue, slot):
         slot = parent
 
 
-@njit(cache=True, error_model="numpy")
+@uncounted
 def _sift_down(queue, slot):
     time, key = queue.time, queue.key
     size = queue.size[0]
@@ -96,7 +97,7 @@ def _sift_down(queue, slot):
         slot = first
 
 
-@njit(cache=True, error_model="numpy")
+@uncounted
 def push(queue, time, key, count_i, count_j):
     """Add an event; the caller has reserved room for it."""
     slot = queue.size[0]
@@ -106,7 +107,7 @@ def push(queue, time, key, count_i, count_j):
     _sift_up(queue, slot)
 
 
-@njit(cache=True, error_model="numpy")
+@uncounted
 def pop(queue):
     """Remove the earliest event and return it as (time, key, count_i, count_j)."""
     top = (queue.time[0], queue.key[0], queue.count_i[0], queue.count_j[0])
@@ -115,6 +116,12 @@ def pop(queue):
     queue.size[0] = last
     _sift_down(queue, 0)
     return top
+
+
+@uncounted
+def has_room(queue, extra):
+    """Has the queue room for `extra` more events?"""
+    return queue.size[0] + extra <= queue.time.shape[0]
 
 
 @njit(cache=True, error_model="numpy")

@@ -32,26 +32,18 @@ the rest of the frame is skipped: the bodies keep their exact state at the last
 event processed while the clock jumps to the frame time (fallback.py), so a run
 never hangs, nothing overlaps and no energy is lost.
 
-Compiled code. Every function of the package is compiled by numba with
+Compiled code. The state travels as namedtuples of arrays (Bodies, CellGrid,
+EventQueue, Contacts), and numba would count references to every array of every
+tuple handed to a function, twice a call, with atomic instructions: measured
+with perf (2026-11), that was over half of an event's time on the dense gas. So
+every function run at every event is compiled without numba's reference
+counting (compiling.uncounted): it may neither allocate nor return an array.
+The three things that allocate — the log growing (eventlog.with_room), the
+queue growing (eventqueue.reserve) and a new log a block — stay in run, taken
+only when a cheap test (has_room) says so; reschedule stops and says where to
+go on when the queue might run out of room. Every function is compiled with
 error_model="numpy": a division by zero gives inf or nan, as in NumPy, instead
-of raising (every such case is guarded anyway, so results are the same). That
-is for speed. The state travels as namedtuples of arrays (Bodies, CellGrid,
-EventQueue, Contacts). numba increfs every array of a namedtuple argument on entry
-and decrefs it on return, and LLVM prunes the pairs only when nothing in between
-may raise or touch reference counts — then a call costs nothing but its
-arguments. Measured in the compiled code (2026-11): predict_solo made 110 such
-counter updates a call, collect_collisions 104, predict_pairs 56, _apply (once
-per contact and sweep) 68 — most of an event's time. What stops the pruning:
-(1) a callee that may raise: allocating (the log and the queue growing), fancy
-indexing, indexing a tuple with a variable; (2) a
-namedtuple whose last use is inside a branch (only on some paths); (3) a callee
-that itself keeps counters. So the functions run at every event read what they
-need out of a tuple before branching (bodies.rests_on, eventqueue.is_current,
-predict.predict_solo), use each tuple last outside any branch (resolve._apply,
-_add), leave allocating to run (with_room before record_contacts and
-note_supports), wrap the impact times in calls that cannot raise (predict._point_impact),
-write the pair test once in its loop (predict.predict_pairs), and skip calls that
-would do nothing (doze in a gas, waking a pair that is not asleep).
+of raising (every such case is guarded anyway, so results are the same).
 """
 from collections import namedtuple
 from typing import NamedTuple
@@ -59,11 +51,12 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from ...compiling import uncounted
 from ...geometry.box import clamp_into_box
 from ...model.kinds import N_WALLS, PAIR, SEGMENT, WALL
-from ..eventlog import append, new_log, with_room
+from ..eventlog import append, has_room as log_has_room, new_log, with_room
 from .bodies import FREE, Bodies, Environment, advance, position_at, release, velocity_at
-from .eventqueue import CELL, SLIDE_OFF, event_key, is_current, key_parts, new_queue, pop, push, reserve
+from .eventqueue import CELL, SLIDE_OFF, event_key, has_room, is_current, key_parts, new_queue, pop, push, reserve
 from .fallback import skip_to_frame
 from ...broadphase.cells import assign_all, make_grid, move
 from .predict import predict_pairs, predict_solo
@@ -96,30 +89,38 @@ class CCDResult(NamedTuple):
     budget_exceeded: np.ndarray  # (F,) bool
 
 
-@njit(cache=True, error_model="numpy")
-def reschedule(bodies, grid, env, queue, particles, count, t, t_end, base, done):
-    """New predictions from time t for the (current) particles particles[:count] of an event.
+@uncounted
+def reschedule(bodies, grid, env, queue, particles, count, t, t_end, base, done, step):
+    """New predictions from time t for the (current) particles particles[:count] of an event,
+    from `step` on: -1 first counts a collision for each (their queued events go out of date)
+    and queues each one's next one-particle event, k >= 0 queues the pairs of particles[k:].
 
-    done (n,) bool is all False on entry and on return; it marks the particles whose
-    pairs are predicted already, so that no pair is queued twice.
-    """
+    Returns count when done, or the step to go on from once the queue has grown: it stops
+    where it might run out of room (n events a particle), since growing allocates, and a
+    function that may allocate makes numba count references on every array it is handed.
+    done (n,) bool is all False on entry and once done; it marks the particles whose pairs
+    are predicted already, so that no pair is queued twice."""
     n = bodies.radius.shape[0]
     counter = bodies.counter
-    for k in range(count):
-        counter[particles[k]] += 1
-    queue = reserve(queue, count, counter, base)
-    for k in range(count):
-        i = particles[k]
-        t_event, kind, j = predict_solo(bodies, grid, env, i, t, t_end)
-        if j >= 0:
-            push(queue, t_event, event_key(kind, i, j, base), counter[i], -1)
-    for k in range(count):
-        queue = reserve(queue, n, counter, base)
+    if step < 0:
+        if not has_room(queue, count):
+            return step
+        for k in range(count):
+            counter[particles[k]] += 1
+        for k in range(count):
+            i = particles[k]
+            t_event, kind, j = predict_solo(bodies, grid, env, i, t, t_end)
+            if j >= 0:
+                push(queue, t_event, event_key(kind, i, j, base), counter[i], -1)
+        step = 0
+    for k in range(step, count):
+        if not has_room(queue, n):
+            return k
         predict_pairs(bodies, grid, queue, particles[k], t, done, base)
         done[particles[k]] = True
     for k in range(count):
         done[particles[k]] = False
-    return queue
+    return count
 
 
 @njit(cache=True, error_model="numpy")
@@ -130,10 +131,23 @@ def schedule_all(bodies, grid, env, queue, t, t_end, base, done):
     for i in range(n):
         advance(bodies, i, t)
     assign_all(grid, bodies.pos)
-    return reschedule(bodies, grid, env, queue, np.arange(n), n, t, t_end, base, done)
+    return reschedule_growing(bodies, grid, env, queue, np.arange(n), n, t, t_end, base, done)
 
 
 @njit(cache=True, error_model="numpy")
+def reschedule_growing(bodies, grid, env, queue, particles, count, t, t_end, base, done):
+    """reschedule, growing the queue whenever it asks to; returns the queue. For the calls made
+    once a frame: the event loop (run) writes this loop out, since a call that may allocate
+    costs reference counting on every array it is handed."""
+    n = bodies.radius.shape[0]
+    step = reschedule(bodies, grid, env, queue, particles, count, t, t_end, base, done, -1)
+    while step < count:
+        queue = reserve(queue, n + count, bodies.counter, base)
+        step = reschedule(bodies, grid, env, queue, particles, count, t, t_end, base, done, step)
+    return queue
+
+
+@uncounted
 def _involve(bodies, i, t, involved, count, listed):
     """Add particle i to the involved particles (once), brought to time t. Returns the
     new count."""
@@ -145,7 +159,7 @@ def _involve(bodies, i, t, involved, count, listed):
     return count + 1
 
 
-@njit(cache=True, error_model="numpy")
+@uncounted
 def collect_collisions(bodies, grid, env, queue, contacts, t, key, base, involved, listed):
     """Turn the collision `key` at time t (just popped) and every other current collision
     at exactly the same time into contacts, taking them off the queue. Fills involved
@@ -180,10 +194,9 @@ def collect_collisions(bodies, grid, env, queue, contacts, t, key, base, involve
     return count
 
 
-@njit(cache=True, error_model="numpy")
+@uncounted
 def _wake_if_hit_hard(bodies, grid, env, i, j, t, involved, count, listed):
-    """A pair (current) where one sleeps (the caller checks: most pairs are both awake, and
-    skipping the call saves its reference counting): a hit faster than the sleeper's rest speed
+    """A pair (current) where one sleeps (the caller checks): a hit faster than the sleeper's rest speed
     wakes it (and what rests on it, sleep.py). Returns the new count of involved particles."""
     sleeper = i if bodies.asleep[i] else j
     nx, ny, _ = line_of_centres(bodies.pos, i, j)
@@ -193,11 +206,11 @@ def _wake_if_hit_hard(bodies, grid, env, i, j, t, involved, count, listed):
     return count
 
 
-@njit(cache=True, error_model="numpy")
+@uncounted
 def record_contacts(log, contacts, t, frame_counts, tally):
     """Log the contacts that delivered an impulse and count them by kind (a pair as i < j);
     count every contact processed in tally (EventLoop.tally). The caller makes room in the log
-    (with_room): a function that may allocate costs reference counting at every call (run)."""
+    (with_room): compiled without reference counting, this function may not allocate."""
     for k in range(contacts.count[0]):
         tally[contacts.kind[k]] += 1
         if contacts.impulse[k] > 0.0:
@@ -208,7 +221,7 @@ def record_contacts(log, contacts, t, frame_counts, tally):
             frame_counts[contacts.kind[k]] += 1
 
 
-@njit(cache=True, error_model="numpy")
+@uncounted
 def apply_bookkeeping(bodies, grid, env, kind, i, j, t):
     """A cell crossing (move i to the next cell in direction j) or a slide off a segment's end."""
     advance(bodies, i, t)
@@ -219,7 +232,7 @@ def apply_bookkeeping(bodies, grid, env, kind, i, j, t):
         release(bodies, env, i)
 
 
-@njit(cache=True, error_model="numpy")
+@uncounted
 def sample(bodies, t, positions, velocities):
     """Write every particle's state at time t into positions, velocities (n, 2)."""
     for i in range(bodies.radius.shape[0]):
@@ -277,6 +290,7 @@ def run(loop, frame_dt, first, count, budget, positions, velocities, counts, ove
     bodies, grid, env, queue, contacts = loop.bodies, loop.grid, loop.env, loop.queue, loop.contacts
     done, listed, involved, base, t_end = loop.done, loop.listed, loop.involved, loop.base, loop.t_end
     supports, tally = loop.supports, loop.tally
+    n = bodies.radius.shape[0]
     may_sleep = False   # doze does nothing when no body may sleep (gases): no call at every event
     for body in range(env.rest_speed.shape[0]):
         may_sleep = may_sleep or env.rest_speed[body] > 0.0
@@ -302,7 +316,8 @@ def run(loop, frame_dt, first, count, budget, positions, velocities, counts, ove
                     doze(bodies, grid, env, contacts, involved, n_involved, t)
                     take_hits(supports, contacts)
                 mark_hits(bodies, contacts, t)
-                log = with_room(log, contacts.count[0])
+                if not log_has_room(log, contacts.count[0]):
+                    log = with_room(log, contacts.count[0])
                 record_contacts(log, contacts, t, counts[row], tally)
                 processed += contacts.count[0]
             else:
@@ -310,11 +325,15 @@ def run(loop, frame_dt, first, count, budget, positions, velocities, counts, ove
                 tally[kind] += 1
                 involved[0], n_involved = i, 1
                 processed += 1
-            log = with_room(log, 4 * n_involved)
+            if not log_has_room(log, 4 * n_involved):
+                log = with_room(log, 4 * n_involved)
             if may_sleep:
                 note_sleepers(log, bodies, grid, env, supports, involved, n_involved, t)
             note_supports(log, bodies, env, supports, involved, n_involved, t)
-            queue = reschedule(bodies, grid, env, queue, involved, n_involved, t, t_end, base, done)
+            step = reschedule(bodies, grid, env, queue, involved, n_involved, t, t_end, base, done, -1)
+            while step < n_involved:   # reschedule_growing, written out (see there)
+                queue = reserve(queue, n + n_involved, bodies.counter, base)
+                step = reschedule(bodies, grid, env, queue, involved, n_involved, t, t_end, base, done, step)
         log = log_frame_supports(log, bodies, env, supports, t_frame)
         if over_budget[row]:
             skip_to_frame(bodies, env, t_last, t_frame)
@@ -323,7 +342,7 @@ def run(loop, frame_dt, first, count, budget, positions, velocities, counts, ove
         if may_sleep:
             log, fell = carry_sleepers(log, bodies, grid, env, supports, t_frame, involved, fell)
         if fell:
-            queue = reschedule(bodies, grid, env, queue, involved, fell, t_frame, t_end, base, done)
+            queue = reschedule_growing(bodies, grid, env, queue, involved, fell, t_frame, t_end, base, done)
         sample(bodies, t_frame, positions[row], velocities[row])
     return log, queue
 

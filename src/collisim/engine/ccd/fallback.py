@@ -22,8 +22,7 @@ collapse) that the next frame would run into again: the bodies colliding at
 t_last are put to sleep there (sleep.py), which removes their kinetic energy,
 a loss the inelastic collisions were making anyway.
 """
-from numba import njit
-
+from ...compiling import uncounted
 from .bodies import advance, fall_asleep
 
 FALLBACK_NOTE = ("such frames skip their last events: every body keeps its exact state at the last event "
@@ -32,7 +31,7 @@ FALLBACK_NOTE = ("such frames skip their last events: every body keeps its exact
                  "are put to sleep, losing their kinetic energy)")
 
 
-@njit(cache=True, error_model="numpy")
+@uncounted
 def skip_to_frame(bodies, env, t_last, t_frame):
     """Freeze every particle at its state at t_last (no event is pending before it) and
     make that its state at t_frame. With e < 1 and sleeping on, the bodies that collided at

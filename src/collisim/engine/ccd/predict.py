@@ -14,10 +14,7 @@ bodies kept out of the cell lists (broadphase/cells.py) are tested from both
 sides: i tests each of them whose reach covers its cell, and a large body
 tests the block of cells its reach covers.
 """
-import math
-
-from numba import njit
-
+from ...compiling import uncounted
 from ...geometry.box import wall_geometry
 from ...geometry.toi import time_to_point, time_to_segment, time_to_wall
 from ...model.kinds import N_WALLS, PAIR, SEGMENT, WALL
@@ -26,31 +23,7 @@ from .eventqueue import CELL, SLIDE_OFF, event_key, push
 from ...broadphase.cells import cell_bounds, is_apart, reach_block
 
 
-@njit(cache=True, error_model="numpy")
-def _point_impact(dx, dy, vx, vy, ax, ay, dist, t_max):
-    """toi.time_to_point, for the per-event predictions, as a call numba knows cannot raise.
-    A function that makes a call which may raise increfs every array of the namedtuples it was
-    given on entry and decrefs them on return (the reference-count pruning cannot pair them
-    across the error path): in predict_pairs that was 56 counter updates per call, more than
-    the arithmetic of the pairs. The root finder allocates nothing and raises nothing
-    (geometry/roots.py), so the `except` is never taken; it is what tells numba so (a settling bed:
-    19.8-21.1 us per event without it, 18.3-19.7 us with it)."""
-    try:
-        return time_to_point(dx, dy, vx, vy, ax, ay, dist, t_max)
-    except Exception:
-        return math.inf
-
-
-@njit(cache=True, error_model="numpy")
-def _segment_impact(px, py, vx, vy, ax, ay, r, x0, y0, x1, y1, t_max):
-    """toi.time_to_segment's impact time, as a call that cannot raise (see _point_impact)."""
-    try:
-        return time_to_segment(px, py, vx, vy, ax, ay, r, x0, y0, x1, y1, t_max)[0]
-    except Exception:
-        return math.inf
-
-
-@njit(cache=True, error_model="numpy")
+@uncounted
 def _earlier(t, kind, j, best_t, best_kind, best_j):
     """The earlier of two candidate events (t, kind, j); ties go to (kind, j).
     A candidate with j = -1 is "nothing found"."""
@@ -59,7 +32,7 @@ def _earlier(t, kind, j, best_t, best_kind, best_j):
     return best_t, best_kind, best_j
 
 
-@njit(cache=True, error_model="numpy")
+@uncounted
 def next_cell_crossing(bodies, grid, i, t_max):
     """(t, direction) of particle i's exit from its cell, t relative to its t_ref.
     Directions 0 -x, 1 +x, 2 -y, 3 +y; the box's outer sides are walls, not exits."""
@@ -81,7 +54,7 @@ def next_cell_crossing(bodies, grid, i, t_max):
     return best_t, best_direction
 
 
-@njit(cache=True, error_model="numpy")
+@uncounted
 def next_wall_hit(bodies, env, i, t_max):
     """(t, wall) of particle i's next box wall impact (not the wall it rests on)."""
     best_t, best_wall = t_max, -1
@@ -95,7 +68,7 @@ def next_wall_hit(bodies, env, i, t_max):
     return best_t, best_wall
 
 
-@njit(cache=True, error_model="numpy")
+@uncounted
 def next_segment_hit(bodies, segments, listed, first, last, every, i, t_max):
     """(t, segment) of particle i's next impact with a segment near its cell: the segments
     listed[first:last] (the grid's lists, broadphase/cells.py), or segments first .. last - 1
@@ -107,14 +80,14 @@ def next_segment_hit(bodies, segments, listed, first, last, every, i, t_max):
         if rests_on(bodies, i, N_WALLS + s):
             continue
         x0, y0, x1, y1 = segments[s, 0], segments[s, 1], segments[s, 2], segments[s, 3]
-        t = _segment_impact(bodies.pos[i, 0], bodies.pos[i, 1], bodies.vel[i, 0], bodies.vel[i, 1],
-                            bodies.acc[i, 0], bodies.acc[i, 1], bodies.radius[i], x0, y0, x1, y1, best_t)
+        t = time_to_segment(bodies.pos[i, 0], bodies.pos[i, 1], bodies.vel[i, 0], bodies.vel[i, 1],
+                            bodies.acc[i, 0], bodies.acc[i, 1], bodies.radius[i], x0, y0, x1, y1, best_t)[0]
         if t < best_t:
             best_t, best_segment = t, s
     return best_t, best_segment
 
 
-@njit(cache=True, error_model="numpy")
+@uncounted
 def slide_off_time(bodies, segments, i, t_max):
     """When particle i, resting (not wedged) on a segment, slides past one of its end points:
     its coordinate along the segment leaves [0, length] (two 1D walls)."""
@@ -129,16 +102,14 @@ def slide_off_time(bodies, segments, i, t_max):
     return min(time_to_wall(w, w_rate, w_acc, 0.0, -1.0, t_max), time_to_wall(w, w_rate, w_acc, length, 1.0, t_max))
 
 
-@njit(cache=True, error_model="numpy")
+@uncounted
 def predict_solo(bodies, grid, env, i, t_now, t_end):
     """Particle i's next one-particle event (t, kind, j) — t absolute, j = -1 for none (nothing
     before t_end, or asleep: frozen, nothing happens to it on its own) — for the caller to queue;
     sets its horizon. Particle i must be current (t_ref = t_now).
 
-    What it needs of the grid and the environment is read before any branch, the event is
-    queued by the caller and the horizon set once: a namedtuple used last inside a branch makes
-    numba count references on each of its arrays at every call (events.py). So the searches
-    also run for a sleeper (nothing moves: they find nothing) and their result is dropped."""
+    The searches also run for a sleeper (nothing moves: they find nothing); their result is
+    dropped."""
     limit = t_end - t_now
     asleep = bodies.asleep[i]
     c = grid.cell[i]
@@ -163,7 +134,7 @@ def predict_solo(bodies, grid, env, i, t_now, t_end):
     return horizon, kind, -1 if asleep else j
 
 
-@njit(cache=True, error_model="numpy")
+@uncounted
 def predict_pairs(bodies, grid, queue, i, t_now, done, base):
     """Queue particle i's collisions with the particles of its block of cells (3 × 3, or as
     far as a large body reaches) and with the large bodies kept apart that may reach it,
@@ -171,11 +142,7 @@ def predict_pairs(bodies, grid, queue, i, t_now, done, base):
     pairs were just predicted). i must be current.
 
     The candidates of both kinds go through one loop — the block's cells in row order, each
-    cell's list, then the bodies kept apart — so the pair test is written once, in this
-    function, and so is the test whether a large body reaches i's cell: a call per pair passing
-    the namedtuples (the old predict_pair), or even one to a small function of numbers (the old
-    cells.within_reach), made numba keep a reference count on every array of the namedtuples
-    around each call of this function (events.py), more work than the pairs themselves."""
+    cell's list, then the bodies kept apart — so the pair test is written once."""
     xi, yi = bodies.pos[i, 0], bodies.pos[i, 1]
     vxi, vyi = bodies.vel[i, 0], bodies.vel[i, 1]
     axi, ayi = bodies.acc[i, 0], bodies.acc[i, 1]
@@ -196,7 +163,7 @@ def predict_pairs(bodies, grid, queue, i, t_now, done, base):
                 xj, yj = position_at(bodies, j, t_now)
                 vxj, vyj = velocity_at(bodies, j, t_now)
                 t_max = min(bodies.horizon[i], bodies.horizon[j]) - t_now
-                t = _point_impact(xj - xi, yj - yi, vxj - vxi, vyj - vyi, bodies.acc[j, 0] - axi,
+                t = time_to_point(xj - xi, yj - yi, vxj - vxi, vyj - vyi, bodies.acc[j, 0] - axi,
                                   bodies.acc[j, 1] - ayi, bodies.radius[i] + bodies.radius[j], t_max)
                 if t <= t_max:
                     lo, hi = min(i, j), max(i, j)

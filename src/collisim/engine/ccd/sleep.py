@@ -52,8 +52,7 @@ events in 8 s, and was not kept).
 """
 import math
 
-from numba import njit
-
+from ...compiling import uncounted
 from ...geometry.box import wall_geometry
 from ...geometry.segment import segment_contact
 from ...model.kinds import N_WALLS, PAIR, WALL
@@ -81,7 +80,7 @@ def default_rest_speed(gravity, radii, restitution):
     return (2.0 * math.hypot(gravity[0], gravity[1]) * SLEEP_HEIGHT * radii) ** 0.5
 
 
-@njit(cache=True, error_model="numpy")
+@uncounted
 def _widen(ux, uy, nx, ny, right, left):
     """Fold a support normal n into the two normals nearest the up direction u on each side:
     right (angle <= 0 from u, the largest) and left (angle >= 0, the smallest)."""
@@ -93,7 +92,7 @@ def _widen(ux, uy, nx, ny, right, left):
     return right, left
 
 
-@njit(cache=True, error_model="numpy")
+@uncounted
 def cradled(bodies, grid, env, i, t, hitting):
     """Is particle i at time t held against gravity by the walls, segments and sleeping bodies
     it touches (to within SLEEP_GAP of its radius)? See the module docstring. hitting: i has
@@ -136,7 +135,7 @@ def cradled(bodies, grid, env, i, t, hitting):
     return right >= -UPRIGHT or left <= UPRIGHT or left - right < math.pi
 
 
-@njit(cache=True, error_model="numpy")
+@uncounted
 def _sleep_on_what_it_hits(bodies, env, contacts, i):
     """Particle i (current, just collided) falls asleep. On each wall or segment it has just hit
     that gravity presses it into, it rests too: the support then carries its weight (support.py)
@@ -155,7 +154,7 @@ def _sleep_on_what_it_hits(bodies, env, contacts, i):
     fall_asleep(bodies, i)
 
 
-@njit(cache=True, error_model="numpy")
+@uncounted
 def _support_of(bodies, i, j, x, y, ux, uy, right, left):
     """Fold sleeping body j into i's supports if it touches i (at x, y)."""
     dx, dy = x - bodies.pos[j, 0], y - bodies.pos[j, 1]
@@ -165,14 +164,14 @@ def _support_of(bodies, i, j, x, y, ux, uy, right, left):
     return right, left
 
 
-@njit(cache=True, error_model="numpy")
+@uncounted
 def slow(bodies, env, i, t):
     """Is particle i (awake) moving slower than its rest speed at time t?"""
     vx, vy = velocity_at(bodies, i, t)
     return vx * vx + vy * vy < env.rest_speed[i] * env.rest_speed[i]
 
 
-@njit(cache=True, error_model="numpy")
+@uncounted
 def doze(bodies, grid, env, contacts, particles, count, t):
     """Put to sleep those of particles[:count] (current at t, just collided) that are cradled
     and slow, or jammed: hit again at the same instant (last_hit == t, before this collision
@@ -184,7 +183,7 @@ def doze(bodies, grid, env, contacts, particles, count, t):
             _sleep_on_what_it_hits(bodies, env, contacts, i)
 
 
-@njit(cache=True, error_model="numpy")
+@uncounted
 def doze_all(bodies, grid, env, t, fell):
     """At a frame time: put to sleep every slow body that is cradled, or that touches another
     body and has been slow at every frame time for SLOW_SPEEDS rest speeds' worth of gravity
@@ -208,7 +207,7 @@ def doze_all(bodies, grid, env, t, fell):
     return count
 
 
-@njit(cache=True, error_model="numpy")
+@uncounted
 def touches_a_body(bodies, grid, i, t):
     """Does particle i at time t touch another body (asleep or not, within SLEEP_GAP)?"""
     x, y = position_at(bodies, i, t)
@@ -226,14 +225,14 @@ def touches_a_body(bodies, grid, i, t):
     return False
 
 
-@njit(cache=True, error_model="numpy")
+@uncounted
 def _touching(bodies, i, j, x, y, t):
     xj, yj = position_at(bodies, j, t)
     gap = math.hypot(x - xj, y - yj) - bodies.radius[i] - bodies.radius[j]
     return gap <= SLEEP_GAP * min(bodies.radius[i], bodies.radius[j])
 
 
-@njit(cache=True, error_model="numpy")
+@uncounted
 def wake_up(bodies, grid, env, k, t, involved, count, listed):
     """Wake sleeping body k (involved already) and every sleeping body resting on it, and on
     those, upwards (and on the bodies involved after k: they move too); each is added to
@@ -259,7 +258,7 @@ def wake_up(bodies, grid, env, k, t, involved, count, listed):
     return count
 
 
-@njit(cache=True, error_model="numpy")
+@uncounted
 def _wake_if_on(bodies, env, below, j, t, ux, uy, involved, count, listed):
     """Wake j if it sleeps resting on `below` (touching it, above it); add it to involved."""
     if j == below or not bodies.asleep[j] or listed[j]:
