@@ -1,64 +1,78 @@
-"""Functions compiled without numba's reference counting (compiling.uncounted) never return an
-array, and the event loop's per-event functions are among them.
-
-An uncounted function hands back whatever it returns without counting a reference: an array
-returned that way would be freed by its caller while still in use. numba refuses an uncounted
-function that allocates, but not one that returns an array it was handed, so this is checked
-here on every compiled signature, after a ccd run that goes through gravity, resting, sleeping,
-segments and the budget."""
-import sys
-
+"""Functions compiled without numba's reference counting (compiling.uncounted): none may return
+an array, the event loop's per-event functions are among them, and the loop's stopping to let
+its queue and log grow changes no byte."""
 import numpy as np
-from numba.core import types
-from numba.core.registry import CPUDispatcher
+import pytest
+from numba.core.errors import TypingError
 
-import collisim
-from collisim.engine.ccd import events
+from collisim.compiling import uncounted
+from collisim.engine.ccd import events, frame_events
 
 # The functions an event runs; each must stay uncounted (the event loop's speed rests on it).
-PER_EVENT = ("collect_collisions", "reschedule", "record_contacts", "apply_bookkeeping", "sample")
+PER_EVENT = ((frame_events, "frame_events"), (frame_events, "collect_collisions"), (frame_events, "reschedule"),
+             (frame_events, "record_contacts"), (frame_events, "apply_bookkeeping"), (events, "sample"))
 
 
-def uncounted_dispatchers():
-    found = {}
-    for name, module in list(sys.modules.items()):
-        if not name.startswith("collisim."):
-            continue
-        for attr, value in vars(module).items():
-            if isinstance(value, CPUDispatcher) and value.targetoptions.get("_nrt") is False:
-                found[f"{value.py_func.__module__}.{value.py_func.__qualname__}"] = value
-    return found
+@uncounted
+def _handed_back(values):
+    return values
 
 
-def holds_an_array(typ) -> bool:
-    if isinstance(typ, types.Array):
-        return True
-    if isinstance(typ, types.BaseTuple):
-        return any(holds_an_array(t) for t in typ.types)
-    return False
+@uncounted
+def _in_a_tuple(values, k):
+    return k, (values, values[k])
 
 
-def run_ccd_through_every_path():
-    radius, width = 0.5, 6.0
-    x = np.linspace(1.0, 5.0, 5)
-    positions = np.column_stack([np.concatenate([x, x]), np.repeat([1.0, 3.0], 5)])
-    world = collisim.World(positions, np.zeros((10, 2)), radius, box=(0, 0, width, 8.0), gravity=(0.0, -9.81),
-                           restitution=0.5, segments=[(0.0, 6.0, 3.0, 5.0)])
-    trajectory = collisim.simulate(collisim.Scene(world=world, seconds=1.5, fps=30, method="ccd"))
-    assert trajectory.positions[-1, :, 1].max() < 3.0     # the balls fell and lie on the floor
+@uncounted
+def _an_element(values, k):
+    return values[k], (k, values[k] * 2.0)
 
 
-def test_no_uncounted_function_returns_an_array():
-    run_ccd_through_every_path()
-    dispatchers = uncounted_dispatchers()
-    compiled = {name: d for name, d in dispatchers.items() if d.overloads}
-    assert len(compiled) >= 40, sorted(compiled)
-    for name, dispatcher in compiled.items():
-        for signature in dispatcher.signatures:
-            returned = dispatcher.overloads[signature].signature.return_type
-            assert not holds_an_array(returned), f"{name}{signature} returns {returned}"
+def test_an_uncounted_function_that_returns_an_array_does_not_compile():
+    """The caller would own a reference nobody counted, and free the array while it is in use."""
+    values = np.arange(4.0)
+    for call in (lambda: _handed_back(values), lambda: _in_a_tuple(values, 1)):
+        with pytest.raises(TypingError, match="may not return an array"):
+            call()
+    assert _an_element(values, 2) == (2.0, (2, 4.0))
 
 
 def test_the_per_event_functions_are_uncounted():
-    for name in PER_EVENT:
-        assert getattr(events, name).targetoptions.get("_nrt") is False, name
+    for module, name in PER_EVENT:
+        assert getattr(module, name).targetoptions.get("_nrt") is False, name
+
+
+def test_a_frame_is_the_same_whatever_room_the_queue_and_the_log_had():
+    """The event loop stops mid-event to let the queue or the log grow (frame_events): starting
+    from a queue with no room to spare and a tiny log, it grows both many times, and every
+    sample and collision is the same as with room to spare."""
+    from collisim.engine.ccd.eventqueue import new_queue
+    from collisim.engine.ccd.events import run, sorted_log, start_event_loop
+
+    rng = np.random.default_rng(5)
+    n, frames = 60, 40
+    positions = np.column_stack([np.tile(np.arange(1.0, 11.0), 6), np.repeat(np.arange(1.0, 13.0, 2.0), 10)])
+    velocities = rng.normal(0.0, 3.0, (n, 2))
+
+    def frames_of(tight):
+        loop = start_event_loop(positions, velocities, (0.0, -9.81), 0.45, 1.0, (0, 0, 12, 14), 0.7, None, 2.0)
+        if tight:   # the same heap, in a queue with room for nothing more
+            q = loop.queue
+            size = int(q.size[0])
+            small = new_queue(size)
+            for a, b in zip(small[:4], q[:4]):
+                a[:] = b[:size]
+            small.size[0] = size
+            loop = loop._replace(queue=small)
+        out_p, out_v = np.empty((frames, n, 2)), np.empty((frames, n, 2))
+        counts, over = np.zeros((frames, 3), np.int64), np.zeros(frames, np.bool_)
+        log, queue = run(loop, 1 / 30, 1, frames, 100_000, out_p, out_v, counts, over)
+        return out_p, out_v, counts, sorted_log(log), queue.time.shape[0]
+
+    roomy, tight = frames_of(False), frames_of(True)
+    assert tight[4] > roomy[4] // 64      # the tight queue grew
+    for a, b in zip(roomy[:3], tight[:3]):
+        assert np.array_equal(a, b)
+    for a, b in zip(roomy[3], tight[3]):
+        assert np.array_equal(a, b)
+    assert len(roomy[3][0]) > 1024        # more collisions than a new log has room for

@@ -1,5 +1,7 @@
-"""How one of collisim's kernels is typed when another calls it: by its arguments' types, not
-by the values of constants among them.
+"""How collisim's kernels compile.
+
+`plain_constants`: a kernel is typed, when another calls it, by its arguments' types, not by the
+values of constants among them.
 
 numba types an integer constant (a module constant such as PAIR or a phase number, a literal
 -1) as Literal[int](value), and a compiled function called from compiled code is compiled once
@@ -13,9 +15,15 @@ gives collisim's dispatchers that same policy, in this one place rather than at 
 
 The bytes are the same: LLVM still sees the constant once a caller inlines its callee, and
 without fastmath it folds floating point exactly as it computes it at run time.
+
+`uncounted`: the kernels run at every event or contact are compiled without numba's reference
+counting, which cost more than their arithmetic (see there).
 """
 from numba import njit
 from numba.core import dispatcher, errors, types
+from numba.core.compiler import CompilerBase, DefaultPassBuilder
+from numba.core.compiler_machinery import FunctionPass, register_pass
+from numba.core.typed_passes import NopythonTypeInference
 
 OWN_MODULES = "collisim."
 
@@ -41,6 +49,39 @@ def plain_constants() -> None:
     dispatcher.Dispatcher.get_call_template = get_call_template
 
 
+
+@register_pass(mutates_CFG=False, analysis_only=True)
+class _ReturnsNoArray(FunctionPass):
+    """Refuse, once types are known, an uncounted function that returns an array (see uncounted)."""
+    _name = "collisim_returns_no_array"
+
+    def __init__(self):
+        FunctionPass.__init__(self)
+
+    def run_pass(self, state):
+        if _holds_an_array(state.return_type):
+            raise errors.TypingError(f"{state.func_id.func_qualname} is compiled without reference counting "
+                                     f"(collisim.compiling.uncounted) and may not return an array: it returns "
+                                     f"{state.return_type}")
+        return False
+
+
+def _holds_an_array(typ) -> bool:
+    if isinstance(typ, types.Array):
+        return True
+    return isinstance(typ, types.BaseTuple) and any(_holds_an_array(t) for t in typ.types)
+
+
+class _UncountedCompiler(CompilerBase):
+    """numba's nopython pipeline with _ReturnsNoArray after type inference."""
+
+    def define_pipelines(self):
+        pipeline = DefaultPassBuilder.define_nopython_pipeline(self.state)
+        pipeline.add_pass_after(_ReturnsNoArray, NopythonTypeInference)
+        pipeline.finalize()
+        return [pipeline]
+
+
 def uncounted(function):
     """numba.njit(cache=True, error_model="numpy"), compiled without numba's reference counting
     (its runtime, NRT): for functions run at every event or contact that allocate nothing and
@@ -53,9 +94,9 @@ def uncounted(function):
     up to five such tuples, 40 arrays: measured with perf, the increments and decrements were
     over half of the event loop's time. A function compiled without the runtime emits none.
 
-    What it may not do, which numba enforces at compile time: allocate an array (np.empty and
-    friends do not type without the runtime) or return one it made. Returning an array it was
-    handed, which numba would allow, would hand the caller a reference nobody counted;
-    tests/test_uncounted.py checks that no such function returns an array. Division by zero
-    gives inf or nan as in NumPy (error_model="numpy"), as everywhere in the engine."""
-    return njit(cache=True, error_model="numpy", _nrt=False)(function)
+    What it may not do, refused at compile time: allocate an array (np.empty and friends do not
+    type without the runtime), or return an array, even one it was handed (numba would allow
+    that, and the caller would then own a reference nobody counted; _ReturnsNoArray refuses it).
+    Division by zero gives inf or nan as in NumPy (error_model="numpy"), as everywhere in the
+    engine."""
+    return njit(cache=True, error_model="numpy", _nrt=False, pipeline_class=_UncountedCompiler)(function)

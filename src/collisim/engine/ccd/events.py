@@ -38,10 +38,9 @@ tuple handed to a function, twice a call, with atomic instructions: measured
 with perf (2026-11), that was over half of an event's time on the dense gas. So
 every function run at every event is compiled without numba's reference
 counting (compiling.uncounted): it may neither allocate nor return an array.
-The three things that allocate — the log growing (eventlog.with_room), the
-queue growing (eventqueue.reserve) and a new log a block — stay in run, taken
-only when a cheap test (has_room) says so; reschedule stops and says where to
-go on when the queue might run out of room. Every function is compiled with
+A frame's events are processed by frame_events.py; when the log or the queue
+might run out of room it stops and says so, and run grows them
+(eventlog.with_room, eventqueue.reserve) and lets it go on. Every function is compiled with
 error_model="numpy": a division by zero gives inf or nan, as in NumPy, instead
 of raising (every such case is guarded anyway, so results are the same).
 """
@@ -51,21 +50,19 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from ...broadphase.cells import assign_all, make_grid
 from ...compiling import uncounted
 from ...geometry.box import clamp_into_box
-from ...model.kinds import N_WALLS, PAIR, SEGMENT, WALL
-from ..eventlog import append, has_room as log_has_room, new_log, with_room
-from .bodies import FREE, Bodies, Environment, advance, position_at, release, velocity_at
-from .eventqueue import CELL, SLIDE_OFF, event_key, has_room, is_current, key_parts, new_queue, pop, push, reserve
+from ...model.kinds import N_WALLS, SEGMENT, WALL, PAIR
+from ..eventlog import new_log, with_room
+from .bodies import FREE, Bodies, Environment, advance, position_at, velocity_at
+from .carried import carry_sleepers
+from .eventqueue import SLIDE_OFF, new_queue, reserve
 from .fallback import skip_to_frame
-from ...broadphase.cells import assign_all, make_grid, move
-from .predict import predict_pairs, predict_solo
-from .support import log_frame_supports, new_supports, note_supports
-from .carried import carry_sleepers, note_sleepers, take_hits
-from .sleep import default_rest_speed, doze, doze_all, wake_up
-from ...geometry.circle import line_of_centres
-from .resolve import (add_pair_contact, add_segment_contact, add_wall_contact, default_tc, mark_hits, new_contacts,
-                      settle_resting, solve_contacts)
+from .frame_events import INVOLVED, NEED, NEED_LOG, NEED_QUEUE, OVER_BUDGET, STATE_SIZE, frame_events, reschedule
+from .resolve import default_tc, new_contacts
+from .sleep import default_rest_speed, doze_all
+from .support import log_frame_supports, new_supports
 
 
 class CCDResult(NamedTuple):
@@ -87,40 +84,6 @@ class CCDResult(NamedTuple):
     pair_collisions: np.ndarray      # (F,) int64
     segment_collisions: np.ndarray   # (F,) int64
     budget_exceeded: np.ndarray  # (F,) bool
-
-
-@uncounted
-def reschedule(bodies, grid, env, queue, particles, count, t, t_end, base, done, step):
-    """New predictions from time t for the (current) particles particles[:count] of an event,
-    from `step` on: -1 first counts a collision for each (their queued events go out of date)
-    and queues each one's next one-particle event, k >= 0 queues the pairs of particles[k:].
-
-    Returns count when done, or the step to go on from once the queue has grown: it stops
-    where it might run out of room (n events a particle), since growing allocates, and a
-    function that may allocate makes numba count references on every array it is handed.
-    done (n,) bool is all False on entry and once done; it marks the particles whose pairs
-    are predicted already, so that no pair is queued twice."""
-    n = bodies.radius.shape[0]
-    counter = bodies.counter
-    if step < 0:
-        if not has_room(queue, count):
-            return step
-        for k in range(count):
-            counter[particles[k]] += 1
-        for k in range(count):
-            i = particles[k]
-            t_event, kind, j = predict_solo(bodies, grid, env, i, t, t_end)
-            if j >= 0:
-                push(queue, t_event, event_key(kind, i, j, base), counter[i], -1)
-        step = 0
-    for k in range(step, count):
-        if not has_room(queue, n):
-            return k
-        predict_pairs(bodies, grid, queue, particles[k], t, done, base)
-        done[particles[k]] = True
-    for k in range(count):
-        done[particles[k]] = False
-    return count
 
 
 @njit(cache=True, error_model="numpy")
@@ -145,91 +108,6 @@ def reschedule_growing(bodies, grid, env, queue, particles, count, t, t_end, bas
         queue = reserve(queue, n + count, bodies.counter, base)
         step = reschedule(bodies, grid, env, queue, particles, count, t, t_end, base, done, step)
     return queue
-
-
-@uncounted
-def _involve(bodies, i, t, involved, count, listed):
-    """Add particle i to the involved particles (once), brought to time t. Returns the
-    new count."""
-    if listed[i]:
-        return count
-    listed[i] = True
-    advance(bodies, i, t)
-    involved[count] = i
-    return count + 1
-
-
-@uncounted
-def collect_collisions(bodies, grid, env, queue, contacts, t, key, base, involved, listed):
-    """Turn the collision `key` at time t (just popped) and every other current collision
-    at exactly the same time into contacts, taking them off the queue. Fills involved
-    with the particles concerned (and those a hard hit on a sleeper wakes) and returns
-    their number."""
-    contacts.count[0] = 0
-    count = 0
-    while True:
-        kind, i, j = key_parts(key, base)
-        count = _involve(bodies, i, t, involved, count, listed)
-        if kind == PAIR:
-            count = _involve(bodies, j, t, involved, count, listed)
-            if bodies.asleep[i] != bodies.asleep[j]:
-                count = _wake_if_hit_hard(bodies, grid, env, i, j, t, involved, count, listed)
-            add_pair_contact(bodies, env, contacts, i, j)
-        elif kind == WALL:
-            add_wall_contact(bodies, env, contacts, i, j)
-        else:
-            add_segment_contact(bodies, env, contacts, i, j)
-        while queue.size[0] > 0 and queue.time[0] == t and not is_current(queue, 0, bodies.counter, base):
-            pop(queue)
-        if (queue.size[0] == 0 or queue.time[0] != t or key_parts(queue.key[0], base)[0] > SEGMENT
-                or contacts.count[0] == contacts.kind.shape[0]):
-            break
-        key = pop(queue)[1]
-    for k in range(contacts.count[0]):
-        if contacts.j[k] >= 0:  # a collision with a particle ends resting; settle_resting may restore it
-            release(bodies, env, contacts.i[k])
-            release(bodies, env, contacts.j[k])
-    for k in range(count):   # a loop, not listed[involved[:count]]: fancy indexing may raise
-        listed[involved[k]] = False
-    return count
-
-
-@uncounted
-def _wake_if_hit_hard(bodies, grid, env, i, j, t, involved, count, listed):
-    """A pair (current) where one sleeps (the caller checks): a hit faster than the sleeper's rest speed
-    wakes it (and what rests on it, sleep.py). Returns the new count of involved particles."""
-    sleeper = i if bodies.asleep[i] else j
-    nx, ny, _ = line_of_centres(bodies.pos, i, j)
-    approach = (bodies.vel[i, 0] - bodies.vel[j, 0]) * nx + (bodies.vel[i, 1] - bodies.vel[j, 1]) * ny
-    if approach > env.rest_speed[sleeper]:
-        count = wake_up(bodies, grid, env, sleeper, t, involved, count, listed)
-    return count
-
-
-@uncounted
-def record_contacts(log, contacts, t, frame_counts, tally):
-    """Log the contacts that delivered an impulse and count them by kind (a pair as i < j);
-    count every contact processed in tally (EventLoop.tally). The caller makes room in the log
-    (with_room): compiled without reference counting, this function may not allocate."""
-    for k in range(contacts.count[0]):
-        tally[contacts.kind[k]] += 1
-        if contacts.impulse[k] > 0.0:
-            i, other = contacts.i[k], contacts.other[k]
-            if contacts.kind[k] == PAIR and other < i:   # a contact with a sleeper is the awake one's
-                i, other = other, i
-            append(log, t, contacts.kind[k], i, other, contacts.impulse[k], contacts.x[k], contacts.y[k])
-            frame_counts[contacts.kind[k]] += 1
-
-
-@uncounted
-def apply_bookkeeping(bodies, grid, env, kind, i, j, t):
-    """A cell crossing (move i to the next cell in direction j) or a slide off a segment's end."""
-    advance(bodies, i, t)
-    if kind == CELL:   # directions 0 -x, 1 +x, 2 -y, 3 +y (written out: indexing a tuple may raise)
-        step = -1 if j == 0 else 1 if j == 1 else -grid.nx if j == 2 else grid.nx
-        move(grid, i, grid.cell[i] + step)
-    else:
-        release(bodies, env, i)
 
 
 @uncounted
@@ -295,45 +173,22 @@ def run(loop, frame_dt, first, count, budget, positions, velocities, counts, ove
     for body in range(env.rest_speed.shape[0]):
         may_sleep = may_sleep or env.rest_speed[body] > 0.0
     log = new_log(1024)
+    state, clock = np.zeros(STATE_SIZE, np.int64), np.zeros(2)
     for row in range(count):
         t_frame = (first + row) * frame_dt
-        processed, t_last = 0, 0.0
-        while queue.size[0] > 0 and queue.time[0] <= t_frame:
-            if not is_current(queue, 0, bodies.counter, base):
-                pop(queue)
-                continue
-            if processed >= budget:
-                over_budget[row] = True
-                break
-            t, key = pop(queue)[:2]
-            t_last = t
-            kind, i, j = key_parts(key, base)
-            if kind <= SEGMENT:
-                n_involved = collect_collisions(bodies, grid, env, queue, contacts, t, key, base, involved, listed)
-                solve_contacts(bodies, contacts)
-                settle_resting(bodies, env, contacts)
-                if may_sleep:
-                    doze(bodies, grid, env, contacts, involved, n_involved, t)
-                    take_hits(supports, contacts)
-                mark_hits(bodies, contacts, t)
-                if not log_has_room(log, contacts.count[0]):
-                    log = with_room(log, contacts.count[0])
-                record_contacts(log, contacts, t, counts[row], tally)
-                processed += contacts.count[0]
+        state[:] = 0
+        clock[:] = 0.0
+        while True:   # frame_events stops to let the log or the queue grow (it cannot allocate)
+            status = frame_events(bodies, grid, env, queue, contacts, log, done, listed, involved, base, t_end,
+                                  supports, tally, may_sleep, t_frame, budget, counts[row], state, clock)
+            if status == NEED_LOG:
+                log = with_room(log, state[NEED])
+            elif status == NEED_QUEUE:
+                queue = reserve(queue, n + state[INVOLVED], bodies.counter, base)
             else:
-                apply_bookkeeping(bodies, grid, env, kind, i, j, t)
-                tally[kind] += 1
-                involved[0], n_involved = i, 1
-                processed += 1
-            if not log_has_room(log, 4 * n_involved):
-                log = with_room(log, 4 * n_involved)
-            if may_sleep:
-                note_sleepers(log, bodies, grid, env, supports, involved, n_involved, t)
-            note_supports(log, bodies, env, supports, involved, n_involved, t)
-            step = reschedule(bodies, grid, env, queue, involved, n_involved, t, t_end, base, done, -1)
-            while step < n_involved:   # reschedule_growing, written out (see there)
-                queue = reserve(queue, n + n_involved, bodies.counter, base)
-                step = reschedule(bodies, grid, env, queue, involved, n_involved, t, t_end, base, done, step)
+                break
+        over_budget[row] = status == OVER_BUDGET
+        t_last = clock[1]
         log = log_frame_supports(log, bodies, env, supports, t_frame)
         if over_budget[row]:
             skip_to_frame(bodies, env, t_last, t_frame)
