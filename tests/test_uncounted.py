@@ -3,6 +3,7 @@ an array, the event loop's per-event functions are among them, and the loop's st
 its queue and log grow changes no byte."""
 import numpy as np
 import pytest
+from numba import njit
 from numba.core.errors import TypingError
 
 from collisim.compiling import uncounted
@@ -23,17 +24,30 @@ def _in_a_tuple(values, k):
     return k, (values, values[k])
 
 
+@njit(cache=True)
+def _a_view(values):     # counted alone; called from an uncounted function, compiled uncounted too
+    return values[1:]
+
+
+@uncounted
+def _takes_a_view(values):
+    return _a_view(values)[0]
+
+
 @uncounted
 def _an_element(values, k):
     return values[k], (k, values[k] * 2.0)
 
 
 def test_an_uncounted_function_that_returns_an_array_does_not_compile():
-    """The caller would own a reference nobody counted, and free the array while it is in use."""
+    """The caller would own a reference nobody counted, and free the array while it is in use.
+    A function an uncounted one calls is compiled uncounted too, and may not make an array."""
     values = np.arange(4.0)
     for call in (lambda: _handed_back(values), lambda: _in_a_tuple(values, 1)):
         with pytest.raises(TypingError, match="may not return an array"):
             call()
+    with pytest.raises(TypingError, match="returning of array"):   # numba's refusal of a new array
+        _takes_a_view(values)
     assert _an_element(values, 2) == (2.0, (2, 4.0))
 
 

@@ -97,6 +97,8 @@ def uncounted(function):
     What it may not do, refused at compile time: allocate an array (np.empty and friends do not
     type without the runtime), or return an array, even one it was handed (numba would allow
     that, and the caller would then own a reference nobody counted; _ReturnsNoArray refuses it).
+    The functions it calls are compiled without reference counting too, so none can hand it a
+    new array either (numba refuses one that would).
     Division by zero gives inf or nan as in NumPy (error_model="numpy"), as everywhere in the
     engine."""
     return njit(cache=True, error_model="numpy", _nrt=False, pipeline_class=_UncountedCompiler)(function)
