@@ -40,9 +40,10 @@ every function run at every event is compiled without numba's reference
 counting (compiling.uncounted): it may neither allocate nor return an array.
 A frame's events are processed by frame_events.py; when the log or the queue
 might run out of room it stops and says so, and run grows them
-(eventlog.with_room, eventqueue.reserve) and lets it go on. Every function is compiled with
-error_model="numpy": a division by zero gives inf or nan, as in NumPy, instead
-of raising (every such case is guarded anyway, so results are the same).
+(eventlog.with_room, eventqueue.reserve) and lets it go on. Every function is
+compiled with error_model="numpy": a division by zero gives inf or nan, as in
+NumPy, instead of raising (every such case is guarded anyway, so results are
+the same).
 """
 from collections import namedtuple
 from typing import NamedTuple
@@ -53,7 +54,7 @@ from numba import njit
 from ...broadphase.cells import assign_all, make_grid
 from ...compiling import uncounted
 from ...geometry.box import clamp_into_box
-from ...model.kinds import N_WALLS, SEGMENT, WALL, PAIR
+from ...model.kinds import N_WALLS, PAIR, SEGMENT, WALL
 from ..eventlog import new_log, with_room
 from .bodies import FREE, Bodies, Environment, advance, position_at, velocity_at
 from .carried import carry_sleepers
