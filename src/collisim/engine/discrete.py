@@ -141,8 +141,9 @@ def _contact_phases(bodies, statics, broad, sleep, dt, margin, lo, hi, vertices,
     candidate pairs, which of them touch, t)."""
     b = bodies
     n = b.positions.shape[0]
-    # (each sleeping call guarded here: a call hands numba every array of the tuples it takes)
-    if sleep.sleeping[0] == n > 0 and all_still(sleep, n) and prior[1].shape[0] == prior[0].shape[0]:
+    # (the sleeping calls that count references are guarded here: a call hands numba every array
+    # of the tuples it takes)
+    if all_still(sleep, n) and prior[1].shape[0] == prior[0].shape[0]:
         return found, rows, 0, prior[0], prior[1], t   # nothing moved since the phase before
     margins(b.velocities, b.angular_velocities, b.accelerations, b.radii, dt, margin)
     place_polygons(b.body_vertices, b.vertex_start, b.positions, b.angles, vertices)
@@ -264,11 +265,11 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
                                                                      vertices, found, rows, (pairs, touching),
                                                                      phase_cycles, t)
         out.candidates[frame] = pairs.shape[0]
-        if frame > 0 and still_since_record and sleep.sleeping[0] == n and all_still(sleep, n):
+        if frame > 0 and still_since_record and all_still(sleep, n):
             out.hierarchy[frame] = out.hierarchy[frame - 1]   # the same state as the frame before
         else:
             record_levels(levels, b, pairs, vertices, touching, out.hierarchy[frame])
-        still_since_record = sleep.sleeping[0] == n > 0 and all_still(sleep, n)
+        still_since_record = all_still(sleep, n)
         out.positions[frame] = b.positions
         out.velocities[frame] = b.velocities
         if out.angles.shape[1] == n:  # bodies that turn (see new_frames)

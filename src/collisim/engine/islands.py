@@ -32,6 +32,7 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
+from ..compiling import uncounted
 from ..geometry.vector import length
 from ..model.kinds import CIRCLE, SUPPORT
 from ..narrowphase.manifold import body_pair_touch
@@ -146,10 +147,11 @@ def fall_asleep(sleep, bodies, rows, count, dt):
             sleep.sleeping[0] += 1
 
 
-@njit(cache=True)
+@uncounted
 def all_still(sleep, n):
     """Does every one of the n bodies sleep, none of them since the last step's contacts were
-    found? (Nothing has moved since: the step has nothing to find, solve or count.)"""
+    found? (Nothing has moved since: the step has nothing to find, solve or count.) Uncounted
+    (compiling.py): called at every step, as cheap as the test it makes."""
     if n == 0 or sleep.sleeping[0] < n:
         return False
     for i in range(n):
