@@ -42,10 +42,12 @@ speed, 60 s) has no frame over the budget, memory flat, overlaps ~1e-14 r, and c
 the discrete method at one substep never asleep per simulated second (9.0-9.6x the discrete
 method with its own sleeping, engine/islands.py). A sleeper's weight goes on to the
 walls through the pile under it (carried.py), so a sleeping pile presses the floor with all
-its weight. Known limit: piles freeze looser than hexagonal close packing. 200 balls dropped at
-random (seeds 1 and 2), 10 s, with the default TC model (resolve.py): e = 0 +9.5 and +11.4 %
-in height, e = 0.5 +12.2 and +11.4 %, e = 0.9 +4.8 and +4.7 %; against the pymunk comparison
-mirror's pile from the same drop (10 substeps) +4.7 and +1.2 %, +6.4 and +5.9 %, -1.4 and -1.3 %. The bottom row freezes with gaps,
+its weight. Known limit: piles freeze looser than hexagonal close packing, as random drops do in
+every engine. 200 balls dropped at random (seeds 1 to 4), 10 s, with the default TC model
+(resolve.py): mean heights +8.5 % (e = 0), +10.3 % (e = 0.5), +5.4 % (e = 0.9) above close
+packing, against +7.4, +6.2 and +6.4 % for the pymunk comparison mirror's piles from the same
+drops (10 substeps) and +9.4, +9.2 and +6.2 % for the discrete method's. At e = 0.5 ccd's are
+3.9 % taller than the mirror's. The bottom row freezes with gaps,
 because a sleeper pushed aside slower than its rest speed stays a fixed obstacle (waking a
 sleeper on every push its supports cannot take was tried: it makes event storms, 10 million
 events in 8 s, and was not kept).
