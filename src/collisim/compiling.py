@@ -17,7 +17,10 @@ The bytes are the same: LLVM still sees the constant once a caller inlines its c
 without fastmath it folds floating point exactly as it computes it at run time.
 
 `uncounted`: the kernels run at every event or contact are compiled without numba's reference
-counting, which cost more than their arithmetic (see there).
+counting, which cost more than their arithmetic (see there). Small helpers handed arrays are
+uncounted too, rather than inlined by numba (inline="always"), which types and compiles a
+helper again inside every caller: the discrete method's cold first run compiled 8 CPU seconds
+longer with them inlined.
 """
 from numba import njit
 from numba.core import dispatcher, errors, types

@@ -14,6 +14,7 @@ import numpy as np
 from numba import njit
 
 from ..arrays import grown
+from ..compiling import uncounted
 from ._rays import check_ray, sorted_hits
 
 
@@ -197,7 +198,7 @@ def reserve_pairs(pairs, count, more):
     return grown(pairs, count + more)
 
 
-@njit(cache=True, inline="always")
+@uncounted
 def put_pair(pairs, count, i, j):
     """Write the pair {i, j} as (min, max) into row `count` of `pairs`, which has room for it
     (reserve_pairs). Returns the new count."""

@@ -29,6 +29,7 @@ import numpy as np
 from numba import njit
 
 from ..arrays import grown
+from ..compiling import uncounted
 from ._common import boxes_overlap, put_pair
 from .grid import cell_of
 
@@ -72,7 +73,7 @@ def home_scratch(nx: int, ny: int, n: int) -> tuple:
             np.empty((n, 2)), np.full(1, n // 8, np.intp))
 
 
-@njit(cache=True, inline="always")
+@uncounted
 def home_cell(lo, i, origin, per_unit, nx, ny):
     """The id of box i's home cell, the cell of its lower-left corner, in the padded numbering
     of home_grid_pairs: ix * (ny + 2) + iy + 1."""

@@ -65,7 +65,7 @@ def new_sleep(world, rest_speed=None) -> Sleep:
                  np.empty((room, 5)), np.zeros(1, np.int64), np.zeros(1, np.int64))
 
 
-@njit(cache=True, inline="always")
+@uncounted
 def _root(parent, i):
     """The island of body i (union-find, with path halving)."""
     while parent[i] != i:
@@ -103,7 +103,7 @@ def _count_still(sleep, bodies, dt):
     return ready
 
 
-@njit(cache=True, inline="always")
+@uncounted
 def _carried(rows, r, parent, least):
     """Is row r the support of a body on a wall or segment, in an island that falls asleep?"""
     return rows.j[r] < 0 and rows.impulse[r] > 0.0 and least[_root(parent, rows.i[r])] >= SLEEP_TIME
@@ -220,7 +220,7 @@ def sleepers_touching(sleep, bodies, vertices, pairs, touching, prior_pairs, pri
         touching[c] = body_pair_touch(polygons, b.shapes, b.positions, b.radii, vertices, b.vertex_start, i, j)
 
 
-@njit(cache=True, inline="always")
+@uncounted
 def _sleeps(asleep, key, n, statics):
     """Do the bodies of warmstart.row_key's contact `key` sleep (a wall or segment always does)?
     (Handed one array, not the Sleep tuple: a call costs a reference count of every array.)"""

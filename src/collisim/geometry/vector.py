@@ -8,10 +8,9 @@ circle's own distance test, geometry/circle.py, has always squared).
 """
 import math
 
-from numba import njit
+from ..compiling import uncounted
 
-
-@njit(cache=True, inline="always")
+@uncounted
 def length(x, y):
     """|(x, y)|."""
     return math.sqrt(x * x + y * y)

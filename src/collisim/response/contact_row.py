@@ -7,10 +7,10 @@ obliges the compiled code to read everything again (it cannot know that the arra
 overlap): twice the time. A call handed the Rows tuple itself (16 arrays) would cost about half
 a microsecond whatever it does.
 """
-from numba import njit
+from ..compiling import uncounted
 
 
-@njit(cache=True, inline="always")
+@uncounted
 def load(lin, ang, i, j):
     """Bodies i's and j's velocity and turning rate from per-body vectors, as one tuple
     (v_ix, v_iy, ω_i, v_jx, v_jy, ω_j); zeros for j < 0, a wall, which does not move."""
@@ -19,7 +19,7 @@ def load(lin, ang, i, j):
     return lin[i, 0], lin[i, 1], ang[i], 0.0, 0.0, 0.0
 
 
-@njit(cache=True, inline="always")
+@uncounted
 def store(lin, ang, i, j, v):
     """Write back what load read."""
     lin[i, 0], lin[i, 1], ang[i] = v[0], v[1], v[2]
@@ -27,7 +27,7 @@ def store(lin, ang, i, j, v):
         lin[j, 0], lin[j, 1], ang[j] = v[3], v[4], v[5]
 
 
-@njit(cache=True, inline="always")
+@uncounted
 def inverses(inverse_masses, inverse_inertias, i, j):
     """(1/m_i, 1/I_i, 1/m_j, 1/I_j); a wall's are never used. Multiplying by an inverse is cheaper
     than dividing: a sweep would otherwise wait on a dozen divisions a row."""
@@ -36,7 +36,7 @@ def inverses(inverse_masses, inverse_inertias, i, j):
     return inverse_masses[i], inverse_inertias[i], 0.0, 0.0
 
 
-@njit(cache=True, inline="always")
+@uncounted
 def relative(v, j, dx, dy, lever_i, lever_j):
     """(v_j - v_i) along (dx, dy) at a contact point of bodies i and j (j < 0: a wall), for the
     pair's loaded vectors v (load). A point at arm a moves at v + ω × a, whose part along d is
@@ -47,7 +47,7 @@ def relative(v, j, dx, dy, lever_i, lever_j):
     return rel
 
 
-@njit(cache=True, inline="always")
+@uncounted
 def kicked(v, m, j, nx, ny, l0, l1, l2, l3, normal_impulse, tangent_impulse):
     """The pair's vectors v (load) changed by impulses along a row's normal (nx, ny) and tangent
     (-ny, nx), at its point (levers l0..l3 as Rows.lever): i pushed back, j on. m: inverses."""
@@ -59,7 +59,7 @@ def kicked(v, m, j, nx, ny, l0, l1, l2, l3, normal_impulse, tangent_impulse):
     return vix, viy, wi, v[3] + px * m[2], v[4] + py * m[2], v[5] + (normal_impulse * l2 + tangent_impulse * l3) * m[3]
 
 
-@njit(cache=True, inline="always")
+@uncounted
 def friction_kick(v, m, j, nx, ny, l0, l1, l2, l3, mass_t, limit, accumulated):
     """Coulomb friction at a row on the pair's vectors v: the tangential impulse that stops its
     sliding, with the row's accumulated friction impulse kept within ±limit. Returns (v, the new
@@ -69,7 +69,7 @@ def friction_kick(v, m, j, nx, ny, l0, l1, l2, l3, mass_t, limit, accumulated):
     return kicked(v, m, j, nx, ny, l0, l1, l2, l3, 0.0, total - accumulated), total
 
 
-@njit(cache=True, inline="always")
+@uncounted
 def meets(v, accelerations, i, j, nx, ny, lever_i, lever_j, gap, dt, rest_speed):
     """A row's closing speed if it meets within the step faster than the rest speed, else 0."""
     closing = relative(v, j, nx, ny, lever_i, lever_j)
@@ -82,7 +82,7 @@ def meets(v, accelerations, i, j, nx, ny, lever_i, lever_j, gap, dt, rest_speed)
     return closing
 
 
-@njit(cache=True, inline="always")
+@uncounted
 def coupling(m, j, lever_r_i, lever_s_i, lever_r_j, lever_s_j):
     """The normal velocity change at one point of a manifold per unit normal impulse at another
     (or the same) point, from their normal levers about each centre. m: inverses."""
@@ -92,7 +92,7 @@ def coupling(m, j, lever_r_i, lever_s_i, lever_r_j, lever_s_j):
     return k
 
 
-@njit(cache=True, inline="always")
+@uncounted
 def couplings(m, j, lr0, lr2, ls0, ls2):
     """k11, k22, k12 of the two points r and s of a manifold (same bodies and normal), from their
     normal levers (lr0, lr2) and (ls0, ls2)."""
@@ -102,7 +102,7 @@ def couplings(m, j, lr0, lr2, ls0, ls2):
     return k11, k22, k12
 
 
-@njit(cache=True, inline="always")
+@uncounted
 def block(k11, k22, k12, b1, b2):
     """The two points of a face on a face solved together, as Box2D's block solver does: the
     accumulated impulses x >= 0 that bring both closing speeds to their targets, or one of them
@@ -126,7 +126,7 @@ def block(k11, k22, k12, b1, b2):
     return found, x1, x2
 
 
-@njit(cache=True, inline="always")
+@uncounted
 def together(k11, k22, k12, u1, u2, restitution):
     """Both points of a two-point manifold meeting at closing speeds u1, u2: the impulses that give
     each -e times its closing speed at once. Returns (possible, j1, j2): not possible if that

@@ -30,6 +30,7 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
+from ..compiling import uncounted
 from ..geometry.box import wall_geometry
 from ..geometry.toi import time_to_pair
 from ..geometry.vector import length
@@ -88,7 +89,7 @@ def new_found(capacity):
     return np.empty((max(capacity, 1), FOUND))
 
 
-@njit(cache=True, inline="always")
+@uncounted
 def _record(found, k, i, j, wall, reach, slop, m):
     """Record k: manifold m of bodies i and j (or of body i and a static `wall`)."""
     record = found[k]
@@ -100,7 +101,7 @@ def _record(found, k, i, j, wall, reach, slop, m):
     return k + 1
 
 
-@njit(cache=True, inline="always")
+@uncounted
 def _reaches(m, reach):
     """Has manifold m a point closer than reach?"""
     return m[2] > 0 and -m[3] < reach
@@ -125,7 +126,7 @@ def _circles_at_contact(positions, velocities, radii, i, j, dt, m):
     return nx, ny, 1, -gap, x + radii[i] * nx, y + radii[i] * ny, 0.0, 0.0, 0.0
 
 
-@njit(cache=True, inline="always")
+@uncounted
 def _circles_apart(positions, radii, i, j, reach):
     """Are the bounding circles of bodies i and j farther apart than they can close (reach)?"""
     dx, dy = positions[j, 0] - positions[i, 0], positions[j, 1] - positions[i, 1]
@@ -226,13 +227,13 @@ def segment_manifolds(bodies, vertices, margin, segments, found, k, polygons, as
     return k
 
 
-@njit(cache=True, inline="always")
+@uncounted
 def _levers(ax, ay, nx, ny):
     """A point's turning levers about a centre, from its arm (ax, ay): arm × n and arm × t."""
     return ax * ny - ay * nx, ax * nx + ay * ny
 
 
-@njit(cache=True, inline="always")
+@uncounted
 def _effective_mass(m_i, inertia_i, lever_i, m_j, inertia_j, lever_j, j):
     """1 / (the velocity change at a point along a direction per unit impulse along it)."""
     k = 1.0 / m_i + lever_i * lever_i / inertia_i

@@ -17,6 +17,7 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
+from ..compiling import uncounted
 from ..model.kinds import N_WALLS
 
 Memory = namedtuple("Memory", ["keys", "impulses", "frictions"])
@@ -38,7 +39,7 @@ def row_key(rows, r, n, statics=N_WALLS):
     return 2 * (rows.i[r] * (n + statics) + other) + rows.feature[r]
 
 
-@njit(cache=True, inline="always")
+@uncounted
 def key_bodies(key, n, statics=N_WALLS):
     """The contact row_key names: (i, other), other being body j, or n + the wall or segment."""
     return (key // 2) // (n + statics), (key // 2) % (n + statics)
