@@ -18,7 +18,6 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-from ..compiling import uncounted
 from ._rays import ray_box_entry
 from .grid_walk import first_slab, slab_times, travel_axis
 
@@ -36,7 +35,7 @@ def cell_bounds_both_ways(column_starts, column_ends, row_starts, row_ends) -> C
     return CellBounds(columns, rows, mirrored_columns, mirrored_rows)
 
 
-@uncounted
+@njit(cache=True, inline="always")
 def travel(bounds, mirrored, o, u):
     """One axis in the order the ray meets its cells, as travel_axis gives it: the starts and
     ends, and the ray's coordinate and direction (>= 0) along it."""

@@ -21,7 +21,6 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-from ..compiling import uncounted
 from ..narrowphase.ray import ray_body
 from ._rays import ray_box_entry
 
@@ -72,7 +71,7 @@ def search_limit(best, ray):
     return min(ray.max_distance, t + SLACK * (ray.scale + t))
 
 
-@uncounted
+@njit(cache=True, inline="always")
 def test_body(bodies, i, ray, best):
     """Test body i exactly and keep the closer hit. bodies: (shapes (n,), positions (n, 2),
     radii (n,), lo (n, 2), hi (n, 2)), lo and hi the bodies' bounding boxes.

@@ -6,15 +6,15 @@ RAY_TESTS maps a shape kind to its test (geometry/ray.py), as SHAPE_PAIRS does f
 test would read its vertices from the world's arrays the way the circle reads its radius).
 """
 import numpy as np
+from numba import njit
 
-from ..compiling import uncounted
 from ..geometry.ray import ray_circle
 from ..model.kinds import CIRCLE
 
 RAY_TESTS = {CIRCLE: ray_circle}
 
 
-@uncounted
+@njit(cache=True, inline="always")
 def ray_body(shapes, positions, radii, i, ox, oy, ux, uy):
     """Where the ray o + t·u (u unit) first touches body i: (t, nx, ny, inside), t = inf for a
     miss (see geometry/ray.py). shapes: (n,) kinds; positions: (n, 2); radii: (n,)."""

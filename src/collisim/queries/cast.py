@@ -12,7 +12,6 @@ from numba import njit
 
 from ..broadphase.ray_closest import body_ray_closest
 from ..broadphase.ray_hit import MAP, SEGMENT, WALL, Ray, keep_closer, no_hit
-from ..compiling import uncounted
 from ..geometry.ray import ray_walls
 from ..statics.segment_rays import nearest_segment, segment_ray_closest
 
@@ -35,7 +34,7 @@ def unit_directions(origins, directions, max_distances, units):
     return -1
 
 
-@uncounted
+@njit(cache=True, inline="always")
 def statics_closest(box, segments, map_segments, in_map, ray):
     """The first hit among the statics. box: (4,); segments, map_segments: SegmentGrid; in_map:
     the origin lies in the map's solid (its index is then the nearest map segment)."""

@@ -13,7 +13,6 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-from ..compiling import uncounted
 from ..broadphase.grid_cursor import begin_walk, cell_bounds_both_ways, next_cell
 from ..broadphase.ray_hit import keep_closer, search_limit
 from ..geometry.ray import ray_segment
@@ -38,7 +37,7 @@ def segment_grid(segments, box) -> SegmentGrid:
     return SegmentGrid(segments, index.cell_start, index.cell_segments, bounds)
 
 
-@uncounted
+@njit(cache=True, inline="always")
 def segment_ray_closest(grid, kind, ray, best):
     """Keep the closer of best and the first segment of `grid` the ray hits (hit kind `kind`,
     index the segment's row). ray: a broadphase.ray_hit.Ray."""
