@@ -26,8 +26,7 @@ edge's ends, cut to the reference face's width, are the incident surface points.
 The helpers handed polygons are compiled without reference counting (compiling.uncounted):
 counted, a call cost numba a reference count of each array it is handed, about as much as the
 arithmetic for a pair in a pile. Inlined into their callers instead (numba's inline="always"),
-as they were, each caller typed and compiled them again: a cold first run spent 8 more CPU
-seconds compiling.
+as they were, each caller typed and compiled them again.
 
 Separations are computed as cross products with the unnormalised edge (e × d) and divided by
 |e| once, so a vertex lying exactly on another polygon's edge line gives exactly 0 (touching).
