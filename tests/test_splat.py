@@ -226,6 +226,57 @@ def test_huge_discs_fill_or_cut_the_canvas():
     assert not canvas.any()
 
 
+
+def _mixed_discs(n, seed, width=320, height=180):
+    """n discs of every kind (sub-pixel, small, large; some across the edges or off the canvas)
+    and their colours."""
+    rng = np.random.default_rng(seed)
+    centres = np.column_stack([rng.uniform(-20, width + 20, n), rng.uniform(-20, height + 20, n)])
+    radii = rng.choice([0.2, 0.45, 0.55, 1.4, 3.7, 9.0, 25.0], n)
+    return centres, radii, rng.integers(0, 256, (n, 3)).astype(np.float64)
+
+
+def test_a_clip_draws_exactly_the_clipped_pixels_of_the_whole_drawing():
+    """Inside the clip, the bytes of drawing the whole canvas; outside it, nothing: a clipped
+    disc keeps its shape and normalization, and it is the same pixel arithmetic."""
+    centres, radii, colors = _mixed_discs(2000, 5)
+    whole = np.full((180, 320, 3), 40, np.uint8)
+    draw_discs(whole, centres, radii, colors)
+    splat.draw_annuli(whole, centres[:300], radii[:300], 1.5, (250, 250, 250))
+    for clip in [(17, 9, 301, 170), (0, 0, 320, 180), (-50, -3, 40, 500), (100, 60, 101, 61), (30, 30, 30, 90)]:
+        clipped = np.full_like(whole, 40)
+        draw_discs(clipped, centres, radii, colors, clip=clip)
+        splat.draw_annuli(clipped, centres[:300], radii[:300], 1.5, (250, 250, 250), clip=clip)
+        left, top, right, bottom = splat.clip_rect(whole, clip)
+        inside = np.zeros(whole.shape[:2], bool)
+        inside[top:bottom, left:right] = True
+        np.testing.assert_array_equal(clipped[inside], whole[inside])
+        assert np.all(clipped[~inside] == 40)
+
+
+def test_the_bytes_do_not_depend_on_how_the_rows_are_split_between_threads():
+    """Drawn in horizontal bands (each band every disc, clipped to its rows), in any number of
+    bands, down to one row each: the same bytes as in one piece; and draw_discs, which splits
+    the rows between threads from splat.BAND_DISCS discs on, gives those bytes too."""
+    centres, radii, colors = _mixed_discs(splat.BAND_DISCS + 500, 8)
+    one = np.zeros((180, 320, 3), np.uint8)
+    splat.splat_discs(one, (0, 0, 320, 180), *splat._prepare(one, centres, radii, colors), 0.5)
+    for rows in ([0, 180], [0, 90, 180], [0, 1, 2, 77, 78, 179, 180], list(range(0, 181, 13)) + [180]):
+        banded = np.zeros_like(one)
+        for top, bottom in zip(rows[:-1], rows[1:]):
+            splat.splat_discs(banded, (0, top, 320, bottom), *splat._prepare(banded, centres, radii, colors), 0.5)
+        np.testing.assert_array_equal(banded, one)
+    assert len(splat._bands((0, 0, 320, 180), len(centres), threads=2)) == 2
+    threaded = np.zeros_like(one)
+    draw_discs(threaded, centres, radii, colors)
+    np.testing.assert_array_equal(threaded, one)
+    rings, banded = np.zeros_like(one), np.zeros_like(one)
+    splat.draw_annuli(rings, centres, radii, 1.0, (200, 100, 50))
+    for top, bottom in ((0, 61), (61, 180)):
+        splat.draw_annuli(banded, centres, radii, 1.0, (200, 100, 50), clip=(0, top, 320, bottom))
+    np.testing.assert_array_equal(banded, rings)
+
+
 # --- rings ----------------------------------------------------------------------------------------
 
 @pytest.mark.parametrize("r,t", [(0.6, 1.0), (1.0, 1.0), (2.5, 1.0), (3.0, 2.0), (6.0, 1.0), (6.0, 2.0),

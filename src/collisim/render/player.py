@@ -182,7 +182,7 @@ class PanelPlayer:
             outlines, bodies = raster.polygon_outlines(world, state.positions, state.angles)
             raster.draw_polygons(canvas, [self.view.to_pixels(o) for o in outlines], world.colors[bodies])
         if settings.flash:
-            self._draw_flashes(inside, corner, state.time)
+            self._draw_flashes(canvas, raster.box_clip(canvas, self.view, world.box), state.time)
         if settings.arrows:
             raster.draw_arrows(inside, self.view, state.positions, state.velocities, settings.arrow_seconds,
                                world.radii, thickness=line, offset=corner, box=world.box)
@@ -195,10 +195,10 @@ class PanelPlayer:
             lines = hud_lines(self._block, self.last_sample, state, compact=self.rect[2] < 800)
             draw_hud(canvas, self.content, lines, self.text_scale)
 
-    def _draw_flashes(self, inside, corner, now: float) -> None:
-        """A ring growing from each fresh impact's contact point, drawn into `inside`, the box's
-        pixels (box_region): a wall's contact point is on the wall, and half a ring outside
-        would cover the frame."""
+    def _draw_flashes(self, canvas, clip, now: float) -> None:
+        """A ring growing from each fresh impact's contact point, clipped to the box's pixels
+        (`clip`, box_clip): a wall's contact point is on the wall, and half a ring outside would
+        cover the frame."""
         for events in self._recent:
             events = events.between(now - FLASH_SECONDS, now + 1e-12)
             # a support carrying a body at rest is no impact: it does not flash
@@ -207,8 +207,8 @@ class PanelPlayer:
                 continue
             age = (now - events.time[fresh]) / FLASH_SECONDS
             radii = self.view.length(self.world.radii[events.i[fresh]]) * (0.3 + 0.5 * age)
-            centres = self.view.to_pixels(events.point[fresh]) - corner
-            raster.draw_rings(inside, centres, radii, palette.FLASH, max(1, int(round(self.unit))))
+            centres = self.view.to_pixels(events.point[fresh])
+            raster.draw_rings(canvas, centres, radii, palette.FLASH, max(1, int(round(self.unit))), clip)
 
 
 def panel_rects(count: int, size: tuple, layout=None) -> list:

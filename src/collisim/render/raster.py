@@ -63,10 +63,11 @@ def draw_styled_circles(canvas, centres_px, style: DiscStyle) -> None:
     splat.draw_discs(canvas, centres_px, style.radii, style.colors)
 
 
-def draw_rings(canvas, centres_px, radii_px, color_rgb, thickness: int = 2) -> None:
+def draw_rings(canvas, centres_px, radii_px, color_rgb, thickness: int = 2, clip=None) -> None:
     """Anti-aliased circle outlines of one colour: annuli `thickness` pixels wide centred on
-    radii_px, as cv2.circle draws them (a negative thickness fills), through splat.py."""
-    splat.draw_annuli(canvas, centres_px, radii_px, thickness, bgr(color_rgb))
+    radii_px, as cv2.circle draws them (a negative thickness fills), through splat.py. clip:
+    (left, top, right, bottom), the only pixels drawn (box_clip), or the whole canvas."""
+    splat.draw_annuli(canvas, centres_px, radii_px, thickness, bgr(color_rgb), clip)
 
 
 def draw_box(canvas, view, box, color_rgb=None, thickness: int = 2) -> None:
@@ -111,11 +112,17 @@ def draw_map(canvas, view, collision_map, coverage, color_rgb=None, shade: float
     cv2.polylines(canvas, polylines, True, bgr(_or(color_rgb, palette.BOX)), 1, cv2.LINE_AA, SHIFT)
 
 
+def box_clip(canvas, view, box) -> tuple:
+    """The canvas pixels inside the box's outline: (left, top, right, bottom), columns
+    [left, right) and rows [top, bottom), as splat.py's clip."""
+    (x0, y0), (x1, y1) = np.rint(view.to_pixels([box[:2], box[2:]])).astype(int)
+    return splat.clip_rect(canvas, (x0, y1, x1 + 1, y0 + 1))
+
+
 def box_region(canvas, view, box) -> tuple:
     """The canvas pixels inside the box's outline, as a view (drawing into it draws into the
     canvas, and nothing drawn there can leave the box), and its top-left corner in pixels."""
-    (x0, y0), (x1, y1) = np.rint(view.to_pixels([box[:2], box[2:]])).astype(int)
-    top, bottom, left, right = max(y1, 0), max(y0 + 1, 0), max(x0, 0), max(x1 + 1, 0)
+    left, top, right, bottom = box_clip(canvas, view, box)
     return canvas[top:bottom, left:right], np.array([left, top], np.float64)
 
 

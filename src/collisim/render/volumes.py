@@ -40,8 +40,7 @@ def volumes_figure(world):
     """A Figure's draw (place "box") of every body's three volumes and the frame's false-positive
     and touching pairs, inside the box's outline (a body's circle at a wall reaches beyond it)."""
     def draw(canvas, rect, view, state, unit):
-        inside, corner = raster.box_region(canvas, view, world.box)
-        _draw_volumes(inside, _shifted(view, corner), world, state, unit)
+        _draw_volumes(canvas, view, world, state, unit)
     return draw
 
 
@@ -52,10 +51,16 @@ def _shifted(view, corner):
     return shifted
 
 
-def _draw_volumes(canvas, view, world, state, unit) -> None:
+def _draw_volumes(frame, frame_view, world, state, unit) -> None:
+    """The volumes, pairs and tags, drawn into the box's pixels only: the circles through a clip
+    of the frame itself (the compiled rasterizer then draws into one kind of array), the rest into
+    the box's region."""
     _, volumes = volumes_of(world, state.positions, state.angles)
     thin = width(unit, 0.5)
-    raster.draw_rings(canvas, view.to_pixels(state.positions), view.length(world.radii), COLORS[0], thin)
+    raster.draw_rings(frame, frame_view.to_pixels(state.positions), frame_view.length(world.radii), COLORS[0], thin,
+                      raster.box_clip(frame, frame_view, world.box))
+    canvas, corner = raster.box_region(frame, frame_view, world.box)
+    view = _shifted(frame_view, corner)
     raster.draw_rects(canvas, view, volumes[:, [XMIN, YMIN]], volumes[:, [XMAX, YMAX]], COLORS[1], thin)
     _oriented_boxes(canvas, view, volumes, COLORS[2], thin)
     found = hierarchy(world, state.positions, state.angles)
