@@ -21,8 +21,9 @@ _STATE_FIELDS = (pymunk.batch.BodyFields.POSITION | pymunk.batch.BodyFields.ANGL
                  | pymunk.batch.BodyFields.VELOCITY | pymunk.batch.BodyFields.ANGULAR_VELOCITY)
 
 
-def add_body(space: pymunk.Space, world, i: int, moment: float) -> tuple:
-    """Body i of the World added to `space` with the given moment: (body, shape)."""
+def add_body(space: pymunk.Space, world, i: int, moment: float, uniform: bool) -> tuple:
+    """Body i of the World added to `space` with the given moment: (body, shape). uniform:
+    world.uniform_acceleration, which the caller reads once (it looks at every body)."""
     body = pymunk.Body(float(world.masses[i]), float(moment))
     body.position = tuple(float(v) for v in world.positions[i])
     body.velocity = tuple(float(v) for v in world.velocities[i])
@@ -33,7 +34,7 @@ def add_body(space: pymunk.Space, world, i: int, moment: float) -> tuple:
         shape = pymunk.Poly(body, [tuple(float(v) for v in vertex) for vertex in vertices], radius=0.0)
     else:
         shape = pymunk.Circle(body, float(world.radii[i]))
-    if not world.uniform_acceleration:   # each body follows its own acceleration, not the space's gravity
+    if not uniform:   # each body follows its own acceleration, not the space's gravity
         body.velocity_func = _constant_acceleration(tuple(float(a) for a in world.accelerations[i]))
     space.add(body, shape)
     return body, shape

@@ -64,11 +64,12 @@ class PlainPymunk:
     def __init__(self, world):
         self.world = world
         self.space = pymunk.Space()
-        if world.uniform_acceleration:
+        uniform = world.uniform_acceleration
+        if uniform:
             self.space.gravity = tuple(float(a) for a in (world.accelerations[0] if world.n else world.gravity))
         self.bodies = []
-        for i in range(world.n):
-            body, shape = add_body(self.space, world, i, world.inertias[i])
+        for i, moment in enumerate(world.inertias):   # each read once: both look at every body
+            body, shape = add_body(self.space, world, i, moment, uniform)
             self._set_material(shape)
             self.bodies.append(body)
         xmin, ymin, xmax, ymax = (float(v) for v in world.box)

@@ -224,8 +224,9 @@ def _moments(world) -> np.ndarray:
 
 def _add_particles(space, world, recorder) -> list:
     bodies = []
+    uniform = world.uniform_acceleration
     for i, moment in enumerate(_moments(world)):
-        body, shape = add_body(space, world, i, moment)
+        body, shape = add_body(space, world, i, moment, uniform)
         _set_material(shape, PARTICLE_TYPE, world)
         recorder.index[shape] = i
         bodies.append(body)
