@@ -277,6 +277,23 @@ def test_the_bytes_do_not_depend_on_how_the_rows_are_split_between_threads():
     np.testing.assert_array_equal(banded, rings)
 
 
+
+def _draw_many(seed):
+    centres, radii, colors = _mixed_discs(splat.BAND_DISCS + 100, seed)
+    canvas = np.zeros((180, 320, 3), np.uint8)
+    draw_discs(canvas, centres, radii, colors)
+    return hashlib.sha256(canvas.tobytes()).hexdigest()
+
+
+def test_a_process_forked_after_drawing_in_threads_draws_in_threads_of_its_own():
+    """A forked child has none of its parent's pool threads: drawing there must not wait for
+    them for ever (a sweep's worker processes are forked from a process that may have drawn)."""
+    import multiprocessing
+    expected = _draw_many(4)                      # the parent's pool now exists
+    with multiprocessing.get_context("fork").Pool(1) as pool:
+        assert pool.apply_async(_draw_many, (4,)).get(timeout=60) == expected
+
+
 # --- rings ----------------------------------------------------------------------------------------
 
 @pytest.mark.parametrize("r,t", [(0.6, 1.0), (1.0, 1.0), (2.5, 1.0), (3.0, 2.0), (6.0, 1.0), (6.0, 2.0),

@@ -318,7 +318,17 @@ def _threads() -> int:
     return min(len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1, 8)
 
 
-_POOL = []   # one thread pool, made when first needed
+_POOL = {}   # process id -> its thread pool, made when first needed
+
+
+def _pool():
+    """This process's thread pool (a process forked from one that had a pool has none of its
+    threads: it makes its own)."""
+    pid = os.getpid()
+    if pid not in _POOL:
+        _POOL.clear()
+        _POOL[pid] = concurrent.futures.ThreadPoolExecutor(_threads(), thread_name_prefix="collisim-splat")
+    return _POOL[pid]
 
 
 def _in_bands(kernel, canvas, rect, count: int, *args) -> None:
@@ -328,9 +338,7 @@ def _in_bands(kernel, canvas, rect, count: int, *args) -> None:
     if len(bands) == 1:
         kernel(canvas, rect, *args)
         return
-    if not _POOL:
-        _POOL.append(concurrent.futures.ThreadPoolExecutor(_threads(), thread_name_prefix="collisim-splat"))
-    for future in [_POOL[0].submit(kernel, canvas, band, *args) for band in bands]:
+    for future in [_pool().submit(kernel, canvas, band, *args) for band in bands]:
         future.result()
 
 
