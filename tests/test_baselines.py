@@ -49,6 +49,27 @@ def test_plain_pymunk_builds_the_same_world_with_pymunk_defaults():
     assert ends == {((0, 0), (0, 8)), ((10, 0), (10, 8)), ((0, 0), (10, 0)), ((0, 8), (10, 8)), ((1, 1), (4, 1.5))}
 
 
+def test_an_abandoned_plain_pymunk_space_steps_as_before_and_is_let_go_without_freeing():
+    """The benchmark abandons pymunk's spaces of large worlds (freeing them is quadratic in
+    their size): stepping is unchanged, and dropping the space runs no destructor, so a body
+    still held stays in the (never freed) space, where a freed space would have removed it."""
+    import gc
+
+    from pymunk._chipmunk_cffi import ffi, lib
+
+    scene = broadphase.moving_gas(400, 0.3, 2)
+    kept, abandoned = PlainPymunk(scene.world), PlainPymunk(scene.world)
+    abandoned.abandon()
+    for plain in (kept, abandoned):
+        plain.time_steps(scene.fps, 30)
+    np.testing.assert_array_equal(np.asarray(abandoned.state()[0]), np.asarray(kept.state()[0]))
+    held = {"kept": kept.bodies[0], "abandoned": abandoned.bodies[0]}
+    del kept, abandoned, plain
+    gc.collect()
+    assert lib.cpBodyGetSpace(held["kept"]._body) == ffi.NULL         # freed: its bodies were removed
+    assert lib.cpBodyGetSpace(held["abandoned"]._body) != ffi.NULL    # abandoned: nothing ran
+
+
 def test_plain_pymunk_installs_no_collision_handler():
     world = head_on()
     plain = PlainPymunk(world)

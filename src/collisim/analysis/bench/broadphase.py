@@ -53,6 +53,7 @@ COLUMNS = ("method", "n", "seconds_per_frame", "ns_per_particle", "candidates", 
 STEP_WORK = 200_000   # particle-steps per timing of a whole step: 200 steps at n = 1000...
 MIN_TIMED_STEPS = 21  # ...and at least this many (three of pymunk's re-indexing periods, see below)
 WARM_STEPS = 300      # steps of every whole-step engine before it is timed: 5 simulated seconds
+ABANDON_N = 100_000   # from this many bodies on, pymunk's space is never freed (PlainPymunk.abandon)
 
 
 def random_gas(n: int, packing: float, seed: int) -> tuple[np.ndarray, np.ndarray]:
@@ -130,6 +131,8 @@ def pymunk_stepper(scene):
     from collisim.analysis.reference.plain_pymunk import PlainPymunk
 
     plain = PlainPymunk(scene.world)
+    if scene.world.n >= ABANDON_N:
+        plain.abandon()
     return lambda steps: plain.time_steps(scene.fps, steps)
 
 

@@ -91,6 +91,20 @@ class PlainPymunk:
         self.space.add(body, shape)
         return body
 
+    def abandon(self) -> None:
+        """Let this space go without freeing it: its memory stays with the process until it
+        exits. Chipmunk frees a space body by body, and each removal searches the space's array
+        of bodies and passes over every cached contact, so freeing a space is quadratic in its
+        size: a few seconds at 100 000 bodies, longer than the whole benchmark at 1 000 000.
+        For benchmarks of large worlds only."""
+        from pymunk._chipmunk_cffi import ffi
+
+        ffi.gc(self.space._space, None)      # detach each destructor: nothing is freed
+        for shape in self.space.shapes:
+            ffi.gc(shape._shape, None)
+        for body in {id(body): body for body in [*self.space.bodies, *(s.body for s in self.space.shapes)]}.values():
+            ffi.gc(body._body, None)
+
     # --- stepping ------------------------------------------------------------------------------
 
     def time_steps(self, fps: float, frames: int, substeps: int = 1) -> float:
