@@ -226,7 +226,6 @@ def test_huge_discs_fill_or_cut_the_canvas():
     assert not canvas.any()
 
 
-
 def _mixed_discs(n, seed, width=320, height=180):
     """n discs of every kind (sub-pixel, small, large; some across the edges or off the canvas)
     and their colours."""
@@ -271,11 +270,12 @@ def test_the_bytes_do_not_depend_on_how_the_rows_are_split_between_threads():
     draw_discs(threaded, centres, radii, colors)
     np.testing.assert_array_equal(threaded, one)
     rings, banded = np.zeros_like(one), np.zeros_like(one)
-    splat.draw_annuli(rings, centres, radii, 1.0, (200, 100, 50))
-    for top, bottom in ((0, 61), (61, 180)):
+    ring_args = splat._prepare(rings, centres, radii, (200, 100, 50))
+    splat.splat_rings(rings, (0, 0, 320, 180), ring_args[0], ring_args[1], splat._read_only(np.ones(len(centres))),
+                      ring_args[2], 0.5)
+    for top, bottom in ((0, 61), (61, 180)):   # each clip split into bands again (rings count 15 discs each)
         splat.draw_annuli(banded, centres, radii, 1.0, (200, 100, 50), clip=(0, top, 320, bottom))
     np.testing.assert_array_equal(banded, rings)
-
 
 
 def _draw_many(seed):

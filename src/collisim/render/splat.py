@@ -4,8 +4,9 @@ A disc is its centre in float pixel coordinates (OpenCV's convention: pixel (i, 
 square centred on (i, j)), its radius in pixels and its colour. Each pixel the disc reaches is
 blended towards the colour by c, the fraction of the pixel's square the disc covers:
 value + (colour - value) * c, rounded. Only the pixels of each disc's bounding box are
-visited; discs are drawn in order (later over earlier), clipped to the canvas, all in one
-compiled call.
+visited; discs are drawn in order (later over earlier), clipped to the canvas or to a clip
+rectangle, all in one compiled call, or from BAND_DISCS discs on one call per band of rows, each
+on a thread of its own, with the same bytes (_bands).
 
 How c is computed, and how far it is from the exact area: coverage.py.
 
@@ -348,7 +349,8 @@ def _in_bands(kernel, canvas, rect, work: int, *args) -> None:
 
 
 def draw_discs(canvas, centres_px, radii_px, colors, clip=None) -> None:
-    """Filled anti-aliased discs into canvas (h, w, 3) in place, in order, in one compiled call.
+    """Filled anti-aliased discs into canvas (h, w, 3) in place, in order (in bands of rows on
+    threads from BAND_DISCS discs on: _bands).
     centres_px (n, 2), radii_px (n,) or one radius, colors (n, 3) or one (3,) colour in the
     canvas's channel order (BGR for a frame). clip: (left, top, right, bottom), the only pixels
     drawn (clip_rect); discs keep their shapes, cut at its edges."""

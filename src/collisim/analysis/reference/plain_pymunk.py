@@ -95,7 +95,7 @@ class PlainPymunk:
         """Let this space go without freeing it: its memory stays with the process until it
         exits. Chipmunk frees a space body by body, and each removal searches the space's array
         of bodies and passes over every cached contact, so freeing a space is quadratic in its
-        size: a few seconds at 100 000 bodies, longer than the whole benchmark at 1 000 000.
+        size: about a second at 40 000 bodies, several minutes at 1 000 000.
         For benchmarks of large worlds only."""
         from pymunk._chipmunk_cffi import ffi
 
