@@ -308,7 +308,7 @@ def _bands(rect, work: int, threads=None) -> list:
     the bytes do not depend on the bands. A disc across a border is visited by both threads
     (one computes the rows the other skips), and every thread tests every disc against its band
     (about 2 ns a disc). Measured alternating one thread and two bands on this project's 2-core
-    machine, shuffled discs at 720p, medians of 9 to 15: 1 000 discs (4-8 px) 1.13 -> 0.87 ms, 25 000
+    machine, shuffled discs at 720p, medians of 9 to 15: 1 000 discs (4-9 px) 1.13 -> 0.87 ms, 25 000
     8.1 -> 5.1 ms, 250 000 24.7 -> 16.9 ms. Smaller draws win too in isolation (100 discs 0.47 ->
     0.36 ms), but under a millisecond a frame is not worth handing to a thread while a render's
     encoder holds the other core."""
