@@ -10,6 +10,7 @@ import math
 
 from ..compiling import uncounted
 
+
 @uncounted
 def length(x, y):
     """|(x, y)|."""

@@ -32,7 +32,6 @@ import math
 
 import numpy as np
 from numba import njit
-
 from numba.core import types
 from numba.extending import overload
 
@@ -40,7 +39,7 @@ from ..broadphase.step import candidate_pairs
 from ..compiling import uncounted
 from ..geometry.polygon import oriented_box, place_polygons, polygon_bounds
 from ..model.kinds import CIRCLE
-from ..model.trajectory import LEVELS, NOT_COUNTED
+from ..model.trajectory import NOT_COUNTED
 from .circles import circles_touch
 from .manifold import shapes_touch
 

@@ -22,7 +22,6 @@ vertices (V, 2) the polygons' world vertices this step, body i's in vertices[sta
 """
 import numpy as np
 from numba import njit
-
 from numba.core import types
 from numba.extending import overload
 
@@ -30,7 +29,7 @@ from ..compiling import uncounted
 from ..model.kinds import CIRCLE
 from .circles import circle_circle, circles_touch
 from .polygons import (box_wall_halfplane, placed_polygons_touch, polygon_circle, polygon_circle_touch,
-                       polygon_halfplane, polygon_polygon, polygon_segment, speculative_polygons)
+                       polygon_halfplane, polygon_segment, speculative_polygons)
 
 NONE = (1.0, 0.0, 0, -np.inf, 0.0, 0.0, 0.0, 0.0, 0.0)
 TOUCH = 1e-12   # of the coordinates' size: past any rounding of a shape moved to touch another

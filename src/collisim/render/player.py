@@ -172,7 +172,8 @@ class PanelPlayer:
         raster.draw_box(canvas, self.view, world.box)
         raster.draw_segments(canvas, self.view, world.segments)
         # trails, arrows and impact rings are drawn into the box's pixels only
-        inside, corner = raster.box_region(canvas, self.view, world.box)
+        clip = raster.box_clip(canvas, self.view, world.box)
+        inside, corner = raster.box_region(canvas, clip)
         line = max(2, int(round(2 * self.unit)))   # survives H.264 at -ql, and grows with the frame
         if settings.trails:
             raster.draw_trails(inside, self.view, np.array(self._history), world.colors, line, corner)
@@ -182,7 +183,7 @@ class PanelPlayer:
             outlines, bodies = raster.polygon_outlines(world, state.positions, state.angles)
             raster.draw_polygons(canvas, [self.view.to_pixels(o) for o in outlines], world.colors[bodies])
         if settings.flash:
-            self._draw_flashes(canvas, raster.box_clip(canvas, self.view, world.box), state.time)
+            self._draw_flashes(canvas, clip, state.time)
         if settings.arrows:
             raster.draw_arrows(inside, self.view, state.positions, state.velocities, settings.arrow_seconds,
                                world.radii, thickness=line, offset=corner, box=world.box)

@@ -119,10 +119,11 @@ def box_clip(canvas, view, box) -> tuple:
     return splat.clip_rect(canvas, (x0, y1, x1 + 1, y0 + 1))
 
 
-def box_region(canvas, view, box) -> tuple:
-    """The canvas pixels inside the box's outline, as a view (drawing into it draws into the
-    canvas, and nothing drawn there can leave the box), and its top-left corner in pixels."""
-    left, top, right, bottom = box_clip(canvas, view, box)
+def box_region(canvas, clip) -> tuple:
+    """The pixels of a clip (box_clip: those inside the box's outline) as a view of the canvas
+    (drawing into it draws into the canvas, and nothing drawn there can leave the box), and its
+    top-left corner in pixels."""
+    left, top, right, bottom = clip
     return canvas[top:bottom, left:right], np.array([left, top], np.float64)
 
 

@@ -57,9 +57,10 @@ def _draw_volumes(frame, frame_view, world, state, unit) -> None:
     the box's region."""
     _, volumes = volumes_of(world, state.positions, state.angles)
     thin = width(unit, 0.5)
+    clip = raster.box_clip(frame, frame_view, world.box)
     raster.draw_rings(frame, frame_view.to_pixels(state.positions), frame_view.length(world.radii), COLORS[0], thin,
-                      raster.box_clip(frame, frame_view, world.box))
-    canvas, corner = raster.box_region(frame, frame_view, world.box)
+                      clip)
+    canvas, corner = raster.box_region(frame, clip)
     view = _shifted(frame_view, corner)
     raster.draw_rects(canvas, view, volumes[:, [XMIN, YMIN]], volumes[:, [XMAX, YMAX]], COLORS[1], thin)
     _oriented_boxes(canvas, view, volumes, COLORS[2], thin)
