@@ -20,6 +20,27 @@ def load(lin, ang, i, j):
 
 
 @uncounted
+def load_mean(lin, ang, accelerations, dt, i, j):
+    """As load, for the mean velocity of the step, lin + ½·a·dt (the solver's w): worked out for
+    the rows' bodies alone, rather than as an (n, 2) array for every body at every step."""
+    half = 0.5 * dt
+    if j >= 0:
+        return (lin[i, 0] + half * accelerations[i, 0], lin[i, 1] + half * accelerations[i, 1], ang[i],
+                lin[j, 0] + half * accelerations[j, 0], lin[j, 1] + half * accelerations[j, 1], ang[j])
+    return lin[i, 0] + half * accelerations[i, 0], lin[i, 1] + half * accelerations[i, 1], ang[i], 0.0, 0.0, 0.0
+
+
+@uncounted
+def zero_bodies(rows, count, lin, ang):
+    """Per-body vectors (lin (n, 2), ang (n,)) set to 0 for the bodies of rows[:count] only: the
+    solver reads and writes no other body's, so it need not clear all n at every step."""
+    for r in range(count):
+        lin[rows.i[r], 0], lin[rows.i[r], 1], ang[rows.i[r]] = 0.0, 0.0, 0.0
+        if rows.j[r] >= 0:
+            lin[rows.j[r], 0], lin[rows.j[r], 1], ang[rows.j[r]] = 0.0, 0.0, 0.0
+
+
+@uncounted
 def store(lin, ang, i, j, v):
     """Write back what load read."""
     lin[i, 0], lin[i, 1], ang[i] = v[0], v[1], v[2]

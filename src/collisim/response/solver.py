@@ -35,8 +35,8 @@ Bodies' inertia comes as inverse_masses (n,) and inverse_inertias (n,): 1/m and 
 import numpy as np
 from numba import njit
 
-from .contact_row import (block, couplings, friction_kick, inverses, kicked, load, meets, relative, store,
-                          together)
+from .contact_row import (block, couplings, friction_kick, inverses, kicked, load, load_mean, meets, relative,
+                          store, together, zero_bodies)
 from .impulse import newton_impulse
 
 POSITION_RATE = 0.2   # the fraction of an overlap (beyond the slop) removed per step
@@ -126,13 +126,13 @@ def _largest(impulses, count):
 
 
 @njit(cache=True)
-def _along_rows(rows, count, lin, ang, tangent):
-    """Each row's relative velocity (count,) of the per-body vectors (lin, ang), along its normal,
-    or along its tangent (-n_y, n_x) if `tangent`."""
+def _along_rows(rows, count, lin, ang, accelerations, dt, tangent):
+    """Each row's relative mean velocity (count,) in the step (lin + ½·a·dt, ang: load_mean),
+    along its normal, or along its tangent (-n_y, n_x) if `tangent`."""
     I, J, N, L = rows.i, rows.j, rows.normal, rows.lever
     out = np.empty(count)
     for r in range(count):
-        v = load(lin, ang, I[r], J[r])
+        v = load_mean(lin, ang, accelerations, dt, I[r], J[r])
         if tangent:
             out[r] = relative(v, J[r], -N[r, 1], N[r, 0], L[r, 1], L[r, 3])
         else:
@@ -145,12 +145,12 @@ def solve_velocities(rows, count, lin, ang, accelerations, inverse_masses, inver
                      push_lin, push_ang):
     """Steps 1 and 2, from the velocities (lin, ang): the contact impulses rows.impulse and
     rows.friction, and the change they make to each body's mean velocity, push_lin (n, 2) and
-    push_ang (n,) (zeroed here; the mean velocity is lin + ½·a·dt + push)."""
-    push_lin[:] = 0.0
-    push_ang[:] = 0.0
-    mean_lin = lin + 0.5 * dt * accelerations
+    push_ang (n,) (zeroed here for the rows' bodies, the only ones it sets; the mean velocity is
+    lin + ½·a·dt + push)."""
+    zero_bodies(rows, count, push_lin, push_ang)
     # each row's relative velocity without contact impulses: the same in every sweep
-    base, base_t = _along_rows(rows, count, mean_lin, ang, False), _along_rows(rows, count, mean_lin, ang, True)
+    base = _along_rows(rows, count, lin, ang, accelerations, dt, False)
+    base_t = _along_rows(rows, count, lin, ang, accelerations, dt, True)
     I, J, N, L, impulses, frictions = rows.i, rows.j, rows.normal, rows.lever, rows.impulse, rows.friction
     gap, partner, mass, mass_t = rows.gap, rows.partner, rows.mass, rows.mass_t
     for r in range(count):
@@ -224,23 +224,22 @@ def solve_velocities(rows, count, lin, ang, accelerations, inverse_masses, inver
 def solve_positions(rows, count, lin, ang, accelerations, inverse_masses, inverse_inertias, dt, iterations, push_lin,
                     push_ang,
                     shift_lin, shift_ang):
-    """Step 3: pseudo-velocities shift_lin (n, 2), shift_ang (n,) (zeroed here) that take overlaps
-    beyond the slop out at POSITION_RATE a step, given the solved mean velocities."""
-    shift_lin[:] = 0.0
-    shift_ang[:] = 0.0
+    """Step 3: pseudo-velocities shift_lin (n, 2), shift_ang (n,) (zeroed here for the rows'
+    bodies, the only ones it sets) that take overlaps beyond the slop out at POSITION_RATE a step,
+    given the solved mean velocities."""
+    zero_bodies(rows, count, shift_lin, shift_ang)
     rows.pseudo[:count] = 0.0
     I, J, N, L, pseudo = rows.i, rows.j, rows.normal, rows.lever, rows.pseudo
     gap, slop, mass = rows.gap, rows.slop, rows.mass
     over = np.flatnonzero(-gap[:count] - slop[:count] > 0.0)   # the rows with an overlap to take out
     if over.shape[0] == 0:
         return
-    mean_lin = lin + 0.5 * dt * accelerations
     solved = np.empty(over.shape[0])   # each one's relative normal velocity after the solve
     goal = np.empty(over.shape[0])     # and the speed that takes out its share of the overlap
     for k in range(over.shape[0]):
         r = over[k]
         i, j, nx, ny = I[r], J[r], N[r, 0], N[r, 1]
-        solved[k] = (relative(load(mean_lin, ang, i, j), j, nx, ny, L[r, 0], L[r, 2])
+        solved[k] = (relative(load_mean(lin, ang, accelerations, dt, i, j), j, nx, ny, L[r, 0], L[r, 2])
                      + relative(load(push_lin, push_ang, i, j), j, nx, ny, L[r, 0], L[r, 2]))
         goal[k] = POSITION_RATE * (-gap[r] - slop[r]) / dt
     scale = 0.0
