@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import collisim
-from collisim.engine.simulate import block_frames, concatenate, stream
+from collisim.engine.simulate import Recorder, block_frames, concatenate, stream
 from collisim.model.trajectory import load_trajectory
 
 
@@ -54,6 +54,36 @@ def test_blocks_shrink_for_very_many_bodies_and_give_the_same_bytes(scene, exact
     one_by_one = concatenate(list(stream(scene, block=1)))
     for name in ("positions", "velocities", "candidates", "pair_collisions"):
         np.testing.assert_array_equal(getattr(one_by_one, name), getattr(exact, name), err_msg=name)
+
+
+@pytest.mark.parametrize("method", ["discrete", "ccd"])
+def test_later_blocks_are_written_straight_into_the_trajectory(scene, exact, method):
+    run_scene = scene.replace(method=method)
+    whole = exact if method == "discrete" else collisim.simulate(run_scene)
+    recorder = Recorder(run_scene.frames + 1)
+    written_in_place = 0
+    for block in stream(run_scene, block=16, into=recorder.views):
+        if recorder.filled:   # every block after the first: the trajectory's own rows
+            for name in ("positions", "velocities"):
+                assert np.shares_memory(getattr(block, name), recorder.arrays[name]), name
+            written_in_place += 1
+        recorder.add(block)
+    assert written_in_place == 5   # 91 samples in blocks of 16
+    run = recorder.trajectory()
+    for name in ("positions", "velocities", "pair_collisions", "wall_collisions"):
+        np.testing.assert_array_equal(getattr(run, name), getattr(whole, name), err_msg=name)
+    assert Recorder(run_scene.frames + 1, "float32").views(16, 16) is None   # converted: copied in
+
+
+def test_a_first_block_of_one_sample_still_lets_the_engine_write_in_place(scene, exact):
+    recorder = Recorder(scene.frames + 1)
+    blocks = stream(scene, block=1, into=recorder.views)
+    recorder.add(next(blocks))   # the t = 0 sample alone (a million bodies: one frame a block)
+    for block in blocks:
+        assert np.shares_memory(block.positions, recorder.arrays["positions"])
+        recorder.add(block)
+    np.testing.assert_array_equal(recorder.trajectory().positions, exact.positions)
+    np.testing.assert_array_equal(recorder.trajectory().velocities, exact.velocities)
 
 
 def test_storage_survives_a_save(scene, tmp_path):

@@ -33,7 +33,7 @@ from ..broadphase.step import AUTO, candidate_pairs, choose, step_state
 from ..geometry.polygon import place_polygons
 from ..model.kinds import CIRCLE, N_WALLS, PAIR, SEGMENT, SUPPORT, WALL
 from ..narrowphase.hierarchy import NOT_COUNTED, level_scratch, record_levels
-from ..response.rows import (margins, near_segments, new_found, new_rows, pair_manifolds, rows_from,
+from ..response.rows import (margin_of, margins, near_segments, new_found, new_rows, pair_manifolds, rows_from,
                              segment_manifolds, wall_manifolds)
 from ..response.solver import collide, come_to_rest, solve_positions, solve_velocities
 from ..response.warmstart import no_memory, recall, remember
@@ -94,14 +94,17 @@ def _lap(phase_cycles, phase, since):
 
 
 @njit(cache=True)
-def _bounds(bodies, margin, lo, hi):
-    """Each body's bounding box (n, 2) lo, hi from its shape (circles: centre ± radius), grown by
-    its speculative margin (n,)."""
-    for i in range(bodies.positions.shape[0]):
-        reach = bodies.radii[i] + margin[i]
+def _margins_and_bounds(bodies, dt, margin, lo, hi):
+    """Each body's speculative margin (n,) (response/rows.py: margins) and its bounding box
+    (n, 2) lo, hi from its shape (circles: centre ± radius) grown by that margin, in one pass
+    over the bodies (at a million bodies a pass costs about as much as all the contacts)."""
+    b = bodies
+    for i in range(b.positions.shape[0]):
+        margin[i] = margin_of(b.velocities, b.angular_velocities, b.accelerations, b.radii, dt, i)
+        reach = b.radii[i] + margin[i]
         for axis in range(2):
-            lo[i, axis] = bodies.positions[i, axis] - reach
-            hi[i, axis] = bodies.positions[i, axis] + reach
+            lo[i, axis] = b.positions[i, axis] - reach
+            hi[i, axis] = b.positions[i, axis] + reach
 
 
 def bounding_boxes(world, positions, velocities, fps: float, substeps: int = 1):
@@ -110,11 +113,10 @@ def bounding_boxes(world, positions, velocities, fps: float, substeps: int = 1):
     what the engine tests."""
     margin, lo, hi = np.empty(world.n), np.empty((world.n, 2)), np.empty((world.n, 2))
     velocities = np.ascontiguousarray(velocities, np.float64)
-    margins(velocities, world.angular_velocities, world.accelerations, world.radii, 1.0 / fps / substeps, margin)
     bodies = Bodies(world.shapes, np.ascontiguousarray(positions, np.float64), velocities, world.angles,
                     world.angular_velocities, world.accelerations, world.radii, world.masses, world.inertias,
                     world.vertex_start, world.body_vertices)
-    _bounds(bodies, margin, lo, hi)
+    _margins_and_bounds(bodies, 1.0 / fps / substeps, margin, lo, hi)
     return lo, hi
 
 
@@ -147,16 +149,17 @@ def _contact_phases(bodies, statics, broad, sleep, dt, margin, lo, hi, vertices,
     # of the tuples it takes)
     if all_still(sleep, n) and prior[1].shape[0] == prior[0].shape[0]:
         return found, rows, 0, prior[0], prior[1], t   # nothing moved since the phase before
-    margins(b.velocities, b.angular_velocities, b.accelerations, b.radii, dt, margin)
-    place_polygons(b.body_vertices, b.vertex_start, b.positions, b.angles, vertices)
+    if statics.volumes is not None:   # a world with polygons
+        place_polygons(b.body_vertices, b.vertex_start, b.positions, b.angles, vertices)
     pairs = np.empty((0, 2), np.int64)
     if n >= 2:   # a lone body runs no pair phase
-        _bounds(b, margin, lo, hi)
+        _margins_and_bounds(b, dt, margin, lo, hi)
         pairs = sort_pairs(candidate_pairs(broad, lo, hi), n)
         if sleep.sleeping[0] > 0 and wake_near(sleep, b, vertices, margin, pairs, statics.volumes):
-            margins(b.velocities, b.angular_velocities, b.accelerations, b.radii, dt, margin)
-            _bounds(b, margin, lo, hi)
+            _margins_and_bounds(b, dt, margin, lo, hi)
             pairs = sort_pairs(candidate_pairs(broad, lo, hi), n)
+    else:
+        margins(b.velocities, b.angular_velocities, b.accelerations, b.radii, dt, margin)
         t = _lap(phase_cycles, BROAD, t)
     near = near_segments(b, margin, statics.segments)
     most = pairs.shape[0] + near + 4 * n   # a manifold a pair, a polygon and segment, a body and wall
@@ -320,12 +323,15 @@ def _mark_held(rows, count, held):
             held[rows.i[r], rows.wall[r] // 2] = True
 
 
-def new_frames(count: int, n: int, turning: bool = True) -> Frames:
+def new_frames(count: int, n: int, turning: bool = True, into=None) -> Frames:
     """Room for `count` frames of n bodies. Without `turning` the angle arrays have no columns:
     bodies that never turn keep their angles, and storing them every frame would cost as much
-    memory traffic as the positions (see constant_angles)."""
+    memory traffic as the positions (see constant_angles). into: (positions, velocities), two
+    C-contiguous float64 (count, n, 2) arrays to write the state into (a trajectory's own rows:
+    simulate.Recorder.views), instead of new ones."""
     columns = n if turning else 0
-    return Frames(np.empty((count, n, 2)), np.empty((count, n, 2)), np.empty((count, columns)),
+    positions, velocities = into if into is not None else (np.empty((count, n, 2)), np.empty((count, n, 2)))
+    return Frames(positions, velocities, np.empty((count, columns)),
                   np.empty((count, columns)), np.zeros((count, 3), np.int64), np.zeros(count, np.int64),
                   np.zeros(count, np.bool_), np.full((count, 4), NOT_COUNTED, np.int64))
 
@@ -373,12 +379,13 @@ class DiscreteStepper:
         self.step_count = 0
         self.warnings = []
 
-    def run(self, count: int):
-        """Advance `count` frames: (Frames, Events)."""
+    def run(self, count: int, into=None):
+        """Advance `count` frames: (Frames, Events). into: where to write the frames' positions
+        and velocities (new_frames), or None for new arrays."""
         b = self.bodies
         # contacts turn polygons, and circles with friction; otherwise ω stays as given
         turning = bool(np.any(b.angular_velocities != 0.0) or np.any(b.shapes != CIRCLE) or self.statics.friction > 0)
-        out = new_frames(count, len(b.positions), turning)
+        out = new_frames(count, len(b.positions), turning, into)
         self.log.size[0] = 0
         self.log, self.memory, self.contacts = self.profile.timed(lambda phase_cycles: run_frames(
             b, self.statics, self.broad, self.sleep, self.dt, self.substeps, self.step_count, out, self.log,

@@ -36,9 +36,11 @@ def simulate(scene: Scene, progress=None, max_events: int = MAX_EVENTS, storage:
 
     `storage` (STORAGE) says how the frames are kept: "float64" as computed; "float32" half the
     memory (positions to about 1e-7 of their size); "positions" a quarter: positions and angles
-    as float32, velocities and angular velocities not kept. The trajectory is allocated once
-    and the engine's blocks are written into it (peak memory: the trajectory plus one block of
-    at most BLOCK_BYTES plus the engine's own arrays).
+    as float32, velocities and angular velocities not kept. The trajectory is allocated once,
+    from its first block; the engine writes every later block's positions and velocities
+    straight into it when it keeps them as computed (float64), and other blocks are copied in
+    (peak memory: the trajectory plus one block of at most BLOCK_BYTES plus the engine's own
+    arrays).
     """
     check_storage(storage)
     if scene.panels:
@@ -47,7 +49,7 @@ def simulate(scene: Scene, progress=None, max_events: int = MAX_EVENTS, storage:
         return [simulate(chapter, progress, max_events, storage) for chapter in scene.chapters]
     recorder, kept, cut = Recorder(scene.frames + 1, storage), 0, False
     with ctrl_c_safe():
-        for block in stream(scene, progress=progress):
+        for block in stream(scene, progress=progress, into=recorder.views):
             room = max(max_events - kept, 0)
             if len(block.events) > room:
                 block.events, cut = block.events.take(slice(0, room)), True
@@ -73,11 +75,14 @@ def block_frames(scene: Scene) -> int:
     return int(max(1, min(BLOCK_FRAMES, BLOCK_BYTES // (32 * max(scene.world.n, 1)))))
 
 
-def stream(scene: Scene, block: int | None = None, progress=None, stepper=None) -> Iterator[Trajectory]:
+def stream(scene: Scene, block: int | None = None, progress=None, stepper=None, into=None) -> Iterator[Trajectory]:
     """Yield the trajectory in consecutive blocks of at most `block` samples (by default
     block_frames), so that a long render holds only one block in memory. The first block
     starts with the t = 0 sample. Every block size gives the same bytes. `stepper`: one that
-    METHODS built for this scene and that has not run yet (a benchmark reads its counters after)."""
+    METHODS built for this scene and that has not run yet (a benchmark reads its counters after).
+    into(first, count): where the stepper is to write the positions and velocities of samples
+    first .. first + count - 1 (Recorder.views), or None for new arrays; asked for every block
+    but the first."""
     if scene.world is None:
         raise ValueError(f"scene '{scene.name}' is made of panels or chapters; stream each one's scene")
     stepper = METHODS[scene.method](scene) if stepper is None else stepper
@@ -90,7 +95,7 @@ def stream(scene: Scene, block: int | None = None, progress=None, stepper=None) 
             frames, events = _join(_initial(world), *stepper.run(count - 1)) if count > 1 else (_initial(world),
                                                                                                 Events.empty())
         else:
-            frames, events = stepper.run(count)
+            frames, events = stepper.run(count, into(first, count) if into is not None else None)
         if progress is not None:
             progress(count - (first == 0))
         yield Trajectory(
@@ -162,8 +167,24 @@ class Recorder:
         self.filled, self.head = end, block
         self.events.append(block.events)
 
+    def views(self, start: int, count: int):
+        """(positions, velocities) of samples start .. start + count - 1, for the engine to write
+        its frames straight into (no second copy of the largest arrays), when the trajectory
+        keeps both as computed: float64 storage, every row its own. Else None."""
+        names = ("positions", "velocities")
+        if self.storage != "float64" or any(self.arrays.get(name) is None for name in names):
+            return None
+        for name in names:   # a first block of one sample was kept as a repeated row: give it rows
+            stored = self.arrays[name]
+            if _repeats_one_row(stored):
+                self.arrays[name] = np.empty(stored.shape, stored.dtype)
+                self.arrays[name][:self.filled] = stored[:self.filled]
+        return tuple(self.arrays[name][start:start + count] for name in names)
+
     def _write(self, name: str, value: np.ndarray, start: int, end: int, dtype) -> None:
         stored = self.arrays.get(name)
+        if stored is not None and _written_in_place(stored[start:end], value):
+            return   # the engine wrote these rows itself (views)
         row_shape = value.shape[1:]
         if stored is None and _repeats_one_row(value):
             self.arrays[name] = np.broadcast_to(value[0].astype(dtype), (self.samples,) + row_shape)
@@ -183,6 +204,12 @@ class Recorder:
         return Trajectory(**self.arrays, world=head.world, fps=head.fps, events=Events.concatenate(self.events),
                           method=head.method, broadphase=head.broadphase, substeps=head.substeps,
                           profile=dict(head.profile), warnings=list(head.warnings), storage=self.storage)
+
+
+def _written_in_place(rows: np.ndarray, value: np.ndarray) -> bool:
+    """Is value these very rows (the same memory, shape and layout)?"""
+    return (rows.shape == value.shape and rows.dtype == value.dtype and rows.strides == value.strides
+            and rows.__array_interface__["data"][0] == value.__array_interface__["data"][0])
 
 
 def concatenate(blocks: list, storage: str = "float64") -> Trajectory:

@@ -70,9 +70,15 @@ def margins(velocities, angular_velocities, accelerations, radii, dt, out):
     capped at its radius (a faster body may still tunnel: that is the discrete method's known
     limit), and at least MARGIN of its radius."""
     for i in range(radii.shape[0]):
-        speed = length(velocities[i, 0], velocities[i, 1]) + abs(angular_velocities[i]) * radii[i]
-        pull = length(accelerations[i, 0], accelerations[i, 1])
-        out[i] = max(min(speed * dt + pull * dt * dt, radii[i]), MARGIN * radii[i])
+        out[i] = margin_of(velocities, angular_velocities, accelerations, radii, dt, i)
+
+
+@uncounted
+def margin_of(velocities, angular_velocities, accelerations, radii, dt, i):
+    """Body i's speculative margin (margins)."""
+    speed = length(velocities[i, 0], velocities[i, 1]) + abs(angular_velocities[i]) * radii[i]
+    pull = length(accelerations[i, 0], accelerations[i, 1])
+    return max(min(speed * dt + pull * dt * dt, radii[i]), MARGIN * radii[i])
 
 
 # a found manifold's record (new_found): the bodies (j = -1 for a static, `wall` naming it), the

@@ -54,10 +54,11 @@ class CCDStepper:
         self.warnings = []
         self._frames_done = 0
 
-    def run(self, count: int):
-        """Advance `count` frames: (Frames, Events)."""
+    def run(self, count: int, into=None):
+        """Advance `count` frames: (Frames, Events). into: where to write the frames' positions
+        and velocities (discrete.new_frames), or None for new arrays."""
         w = self.world
-        out = new_frames(count, w.n)
+        out = new_frames(count, w.n, into=into)
         over_budget = np.zeros(count, np.bool_)
         start = time.perf_counter()
         log, queue = run(self.loop, self.frame_dt, self._frames_done + 1, count, self.max_events, out.positions,
