@@ -158,9 +158,9 @@ def _contact_phases(bodies, statics, broad, sleep, dt, margin, lo, hi, vertices,
         if sleep.sleeping[0] > 0 and wake_near(sleep, b, vertices, margin, pairs, statics.volumes):
             _margins_and_bounds(b, dt, margin, lo, hi)
             pairs = sort_pairs(candidate_pairs(broad, lo, hi), n)
+        t = _lap(phase_cycles, BROAD, t)
     else:
         margins(b.velocities, b.angular_velocities, b.accelerations, b.radii, dt, margin)
-        t = _lap(phase_cycles, BROAD, t)
     near = near_segments(b, margin, statics.segments)
     most = pairs.shape[0] + near + 4 * n   # a manifold a pair, a polygon and segment, a body and wall
     if found.shape[0] < most:
