@@ -8,8 +8,9 @@ is chosen by the *type* of the state when the step is compiled (numba's overload
 compiles only the broad phase it uses and each choice is cached on its own.
 
 Every kernel returns pairs (k, 2) intp with i < j, each pair once, containing every pair of
-overlapping boxes — in the method's own order: the step sorts only the few that touch, which
-is much cheaper than sorting every candidate (broadphase/__init__.py's functions sort them).
+overlapping boxes — in the method's own order: the step puts them in canonical order itself
+(engine/discrete.py: sort_pairs, which leaves pairs already in order as they are), as
+broadphase/__init__.py's functions do for their callers.
 """
 from collections import namedtuple
 
