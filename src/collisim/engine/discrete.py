@@ -291,8 +291,9 @@ def add_contact_motion(bodies, rows, count, push, push_turn, shift, shift_turn, 
     step, move a body by push·dt and change its velocity by 2·push (and turn it likewise); the
     position correction moves it by shift·dt. In place, for the bodies of rows[:count] (the
     solver sets push and shift (n, 2) and their turns (n,) for those alone), each once: moved
-    (n,) marks those done and is all False again on return. A pass over every body instead was
-    a tenth of the step at a million bodies with a few thousand contacts."""
+    (n,) marks those done and is all False again on return. (The solver's passes over every
+    body, this one, the clearing of push and shift and the mean velocities, took 14 ms of a
+    200 ms step at a million bodies with a few thousand contacts.)"""
     for r in range(count):
         for i in (rows.i[r], rows.j[r]):
             if i >= 0 and not moved[i]:
