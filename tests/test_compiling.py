@@ -1,4 +1,10 @@
-"""collisim's kernels compile once per argument types, not once per constant passed (compiling.py)."""
+"""collisim's kernels compile once per argument types, not once per constant passed; their cache
+entries go stale when any of the package's sources changes (compiling.py)."""
+import os
+import subprocess
+import sys
+import textwrap
+
 import numpy as np
 from numba import njit
 
@@ -70,3 +76,57 @@ def test_first_run_counts_compiles_per_function():
     assert (callee["compiles"], caller["compiles"]) == (2, 1)
     assert callee["seconds"] > 0 and caller["seconds"] > 0
     assert callee["signatures"][1] == "array(int64, 1d, C), int64, int64"
+
+
+CALLER = """
+import sys
+import collisim.compiling as compiling
+compiling.PACKAGE = sys.argv[1]          # stamp this folder's kernels as if they were collisim's
+sys.path.insert(0, sys.argv[1])
+from outer import outer
+print(outer())
+"""
+
+
+def run_cached(package, cache) -> str:
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(cache))
+    done = subprocess.run([sys.executable, "-c", CALLER, str(package)], env=env, capture_output=True, text=True,
+                          check=True)
+    return done.stdout.strip()
+
+
+def test_a_kernel_compiles_again_when_a_kernel_it_calls_changes_in_another_file(tmp_path):
+    # numba's own stamp is the caller's file alone: outer() kept returning the cached 1.0
+    package, cache = tmp_path / "package", tmp_path / "cache"
+    package.mkdir()
+    (package / "inner.py").write_text("from numba import njit\n\n@njit(cache=True)\ndef inner():\n    return 1.0\n")
+    (package / "outer.py").write_text(textwrap.dedent("""
+        from numba import njit
+        from inner import inner
+
+        @njit(cache=True)
+        def outer():
+            return inner() + 0.5
+        """))
+    assert run_cached(package, cache) == "1.5"
+    assert run_cached(package, cache) == "1.5"   # loaded from the cache
+    (package / "inner.py").write_text("from numba import njit\n\n@njit(cache=True)\ndef inner():\n    return 2.0\n")
+    assert run_cached(package, cache) == "2.5"
+
+
+def test_the_package_digest_sees_every_source_and_nothing_else(tmp_path):
+    from collisim.compiling import package_digest
+
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "a.py").write_text("x = 1\n")
+    (tmp_path / "sub" / "b.py").write_text("y = 2\n")
+    first = package_digest(str(tmp_path))
+    package_digest.cache_clear()
+    (tmp_path / "notes.txt").write_text("not a source")
+    (tmp_path / "__pycache__").mkdir()
+    (tmp_path / "__pycache__" / "c.py").write_text("z = 3\n")
+    assert package_digest(str(tmp_path)) == first
+    package_digest.cache_clear()
+    (tmp_path / "sub" / "b.py").write_text("y = 3\n")
+    assert package_digest(str(tmp_path)) != first
+    package_digest.cache_clear()

@@ -124,3 +124,12 @@ def test_a_speed_the_frame_rate_cannot_represent_is_one_clear_error():
     world = collisim.World([[5.0, 5.0]], velocities=[[0.0, 1e13]], radii=1.0, gravity=(0, -9.8))
     with pytest.raises(ValueError, match="would cross the box more than 10 000 times in one step"):
         collisim.simulate(collisim.Scene(world=world, fps=60, seconds=0.1))
+
+
+@pytest.mark.parametrize("speed", [1e20, 1e30])
+def test_an_elastic_speed_too_fast_to_fold_is_one_clear_error(speed):
+    # 1e20 units/s crosses the box 2e17 times a step: more than the fold can count (its place in
+    # the box would be rounding noise); at 1e30 the count overflowed and the body left the box
+    world = collisim.World([[5.0, 5.0]], velocities=[[speed, 0.3 * speed]], radii=1.0)
+    with pytest.raises(ValueError, match="would cross the box more than 1e12 times in one step"):
+        collisim.simulate(collisim.Scene(world=world, fps=60, seconds=0.1))

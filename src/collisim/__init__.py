@@ -3,9 +3,10 @@
     scene file -> Scene -> World (bodies, statics) -> engine (discrete or ccd) -> Trajectory
                -> player (raster, overlays) -> writer (PyAV) -> renders/<scene>.mp4
 """
-from .compiling import plain_constants
+from .compiling import plain_constants, stamp_with_package
 
-plain_constants()   # before any kernel is typed: one compile per argument types (compiling.py)
+plain_constants()      # before any kernel is typed: one compile per argument types (compiling.py)
+stamp_with_package()   # before any kernel is cached: a change to any source compiles them again
 
 from .engine import simulate, stream  # noqa: E402
 from .model import Events, Panel, RenderSettings, Scene, Trajectory, World, load_trajectory

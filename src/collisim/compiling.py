@@ -21,7 +21,18 @@ counting, which cost more than their arithmetic (see there). Small helpers hande
 uncounted too, rather than inlined by numba (inline="always"), which types and compiles a
 helper again inside every caller (the same bytes; a cold first run of particles_250 under
 discrete took 84-90 CPU seconds against 89-90 inlined, alternating runs on a loaded machine).
+
+`stamp_with_package`: a cached kernel is stale when any of collisim's sources changes, not only
+its own file. numba keys a cache entry to the hash of the one file that defines the function,
+yet a kernel carries the compiled code of every kernel it calls, from other files: after an
+edit to response/statics.py (or a `git pull` into an editable install) run_frames kept loading
+the old wall response from its cache. So every collisim kernel's cache stamp also holds a
+digest of all the package's sources: a change anywhere compiles the kernels again, once.
 """
+import functools
+import hashlib
+import os
+
 from numba import njit
 from numba.core import dispatcher, errors, types
 from numba.core.compiler import CompilerBase, DefaultPassBuilder
@@ -50,6 +61,49 @@ def plain_constants() -> None:
 
     get_call_template.plain_constants = True
     dispatcher.Dispatcher.get_call_template = get_call_template
+
+
+PACKAGE = os.path.dirname(os.path.abspath(__file__))   # the sources whose kernels are stamped
+
+
+@functools.lru_cache(maxsize=None)
+def package_digest(root: str) -> str:
+    """sha256 of every .py file under root (relative paths and contents, in sorted order), read
+    once a process (5 ms)."""
+    digest = hashlib.sha256()
+    for folder, folders, files in os.walk(root):
+        folders[:] = sorted(name for name in folders if name != "__pycache__")
+        for name in sorted(files):
+            if name.endswith(".py"):
+                path = os.path.join(folder, name)
+                digest.update(os.path.relpath(path, root).encode() + b"\0")
+                with open(path, "rb") as file:
+                    digest.update(file.read() + b"\0")
+    return digest.hexdigest()
+
+
+def stamp_with_package() -> None:
+    """Stamp the cache entries of collisim's kernels with package_digest as well as numba's
+    per-file stamp (see the module docstring); other code's entries are left as they are
+    (idempotent)."""
+    from numba.core import caching
+
+    impl = getattr(caching, "CacheImpl", None) or caching._CacheImpl   # numba >= 0.61, and before
+    if getattr(impl, "collisim_stamped", False):
+        return
+
+    def stamped(locator):
+        class PackageStamped(locator):
+            def get_source_stamp(self):
+                stamp = super().get_source_stamp()
+                inside = os.path.abspath(self._py_file).startswith(PACKAGE + os.sep)
+                return (stamp, package_digest(PACKAGE)) if inside else stamp
+        PackageStamped.__name__ = PackageStamped.__qualname__ = f"PackageStamped{locator.__name__}"
+        return PackageStamped
+
+    impl._locator_classes = [stamped(locator) if issubclass(locator, caching._SourceFileBackedLocatorMixin)
+                             else locator for locator in impl._locator_classes]
+    impl.collisim_stamped = True
 
 
 

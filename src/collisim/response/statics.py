@@ -24,10 +24,15 @@ import math
 from numba import njit
 
 from ..geometry.box import centre_range
+from ..narrowphase.statics import circle_segment
 
 FOLD_AFTER = 64        # reflections in one step before an elastic free flight is folded in O(1)
 MAX_BOUNCES = 10_000   # reflections in one step beyond which the speed is an error (see above)
-from ..narrowphase.statics import circle_segment
+# Box crossings in one step beyond which even an elastic free flight is an error: a fold lands
+# within about crossings x 1e-16 of the box's size of where exact arithmetic would (rounding in
+# the distance flown), so up to here to 1e-4 of the box; beyond it, the crossings could not even
+# be counted exactly (2^53), and the body's place in the box would be noise.
+MAX_CROSSINGS = 1e12
 
 
 @njit(cache=True, error_model="numpy")
@@ -69,8 +74,9 @@ def bounce_between_walls(positions, velocities, accelerations, radii, masses, bo
     Returns (bounces off the low wall, off the high wall, impulse on each): several bounces
     off one wall in one step carry their summed impulse. The work is bounded whatever the
     speed: an elastic body in free flight that would bounce more than FOLD_AFTER times is
-    folded back in one step (_fold); any other past MAX_BOUNCES is a speed this frame rate
-    cannot represent, and one clear error."""
+    folded back in one step (_fold), up to MAX_CROSSINGS crossings of the box; any other past
+    MAX_BOUNCES, or one past MAX_CROSSINGS, is a speed this frame rate cannot represent, and one
+    clear error."""
     low, high = centre_range(box, axis, radii[i])
     x, v, a = positions[i, axis], velocities[i, axis], accelerations[i, axis]
     bounces_low, bounces_high, impulse_low, impulse_high = 0, 0, 0.0, 0.0
@@ -78,6 +84,9 @@ def bounce_between_walls(positions, velocities, accelerations, radii, masses, bo
         x, v = 0.5 * (low + high), 0.0
     while x < low or x > high:
         if bounces_low + bounces_high >= FOLD_AFTER and restitution == 1.0 and a == 0.0:
+            if max(x - high, low - x) > MAX_CROSSINGS * (high - low):
+                raise ValueError("a body would cross the box more than 1e12 times in one step: its speed "
+                                 "cannot be represented at this frame rate; use more substeps or a lower speed")
             speed = abs(v)
             x, v, more_low, more_high = _fold(x, v, low, high)
             impulse_low += 2.0 * masses[i] * speed * more_low
