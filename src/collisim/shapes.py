@@ -50,7 +50,11 @@ def convex_polygon(vertices, name: str = "polygon") -> tuple[np.ndarray, str | N
     scale = np.ptp(points, axis=0).max()
     area = 0.5 * np.sum(points[:, 0] * np.roll(points[:, 1], -1) - np.roll(points[:, 0], -1) * points[:, 1])
     if abs(area) <= NEGLIGIBLE * scale * scale:
-        raise ValueError(f"{name} has no area: its vertices lie on one line")
+        # a figure eight has no net area either: tell it from a line by how far off the line it goes
+        (ex, ey), rest = points[1] - points[0], points[2:] - points[0]
+        off_line = np.abs(ex * rest[:, 1] - ey * rest[:, 0]).max()
+        why = "its vertices lie on one line" if off_line <= NEGLIGIBLE * scale * scale else "its edges cross"
+        raise ValueError(f"{name} has no area: {why}")
     turns = _turns(edges)                  # turns[i]: at vertex i, from edge i-1 to edge i
     straight = np.abs(turns) <= NEGLIGIBLE * np.hypot(*edges.T) * np.hypot(*np.roll(edges, 1, 0).T)
     backwards = np.flatnonzero(straight & (np.sum(edges * np.roll(edges, 1, 0), axis=1) < 0))
