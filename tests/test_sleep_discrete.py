@@ -98,6 +98,17 @@ def test_nothing_sleeps_without_gravity_with_e_1_or_with_rest_speed_0():
     assert asleep.max() == 0
 
 
+def test_a_world_that_never_sleeps_types_its_sleep_as_never():
+    # the step then compiles none of the sleeping (sleep_paths.py): its `on` is typed None
+    from numba import typeof
+
+    from collisim.engine.sleep_paths import _never
+    still = World([(2.0, 2.0), (5.0, 5.0)], radii=0.5, box=(0, 0, 10, 10), restitution=0.5)
+    assert _never(typeof(new_sleep(still)))
+    assert _never(typeof(new_sleep(stack_world(), rest_speed=0.0)))
+    assert not _never(typeof(new_sleep(stack_world())))
+
+
 def test_sleeping_removes_at_most_the_rest_speeds_energy():
     world = stack_world(count=1)
     stepper = DiscreteStepper(world, FPS)

@@ -39,9 +39,10 @@ from ..response.solver import collide, come_to_rest, solve_positions, solve_velo
 from ..response.warmstart import no_memory, recall, remember
 from ..statics.segment_index import build_segment_index
 from .eventlog import append, log_events, new_log, with_room
-from .islands import all_still, fall_asleep, keep_sleepers, log_carried, new_sleep, sleepers_touching, wake_near
+from .islands import new_sleep
 from .integrate import integrate
 from .profile import Profile, cycles
+from .sleep_paths import carry, doze, keep_touching, remember_sleepers, still, wake
 from .statics_paths import keep_start, settle_in_map, statics_phase, statics_scratch
 
 INTEGRATE, BROAD, NARROW, RESPONSE, STATICS, SETTLE, SLEEP, RECORD, TOTAL = range(9)
@@ -147,7 +148,7 @@ def _contact_phases(bodies, statics, broad, sleep, dt, margin, lo, hi, vertices,
     n = b.positions.shape[0]
     # (the sleeping calls that count references are guarded here: a call hands numba every array
     # of the tuples it takes)
-    if all_still(sleep, n) and prior[1].shape[0] == prior[0].shape[0]:
+    if still(sleep, n) and prior[1].shape[0] == prior[0].shape[0]:
         return found, rows, 0, prior[0], prior[1], t   # nothing moved since the phase before
     if statics.volumes is not None:   # a world with polygons
         place_polygons(b.body_vertices, b.vertex_start, b.positions, b.angles, vertices)
@@ -155,7 +156,7 @@ def _contact_phases(bodies, statics, broad, sleep, dt, margin, lo, hi, vertices,
     if n >= 2:   # a lone body runs no pair phase
         _margins_and_bounds(b, dt, margin, lo, hi)
         pairs = sort_pairs(candidate_pairs(broad, lo, hi), n)
-        if sleep.sleeping[0] > 0 and wake_near(sleep, b, vertices, margin, pairs, statics.volumes):
+        if sleep.sleeping[0] > 0 and wake(sleep, b, vertices, margin, pairs, statics.volumes):
             _margins_and_bounds(b, dt, margin, lo, hi)
             pairs = sort_pairs(candidate_pairs(broad, lo, hi), n)
         t = _lap(phase_cycles, BROAD, t)
@@ -169,7 +170,7 @@ def _contact_phases(bodies, statics, broad, sleep, dt, margin, lo, hi, vertices,
     k = pair_manifolds(b, vertices, margin, dt, pairs, found, 0, in_pair, touching, statics.volumes,
                        sleep.asleep)
     if sleep.sleeping[0] > 0:
-        sleepers_touching(sleep, b, vertices, pairs, touching, prior[0], prior[1], statics.volumes)
+        keep_touching(sleep, b, vertices, pairs, touching, prior[0], prior[1], statics.volumes)
     k = wall_manifolds(b, vertices, margin, statics.box, statics.rest_speed, in_pair, found, k, statics.volumes,
                        sleep.asleep)
     if near > 0:
@@ -210,7 +211,8 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
     """Advance bodies in place by out's frame count, each frame `substeps` steps of dt, filling
     out (Frames) and appending every collision to log. memory: the contacts' impulses of the
     step before (response/warmstart.py); contacts: those the next step starts from (Contacts);
-    sleep: which bodies sleep (engine/islands.py), in place;
+    sleep: which bodies sleep (engine/islands.py), in place (a world that never sleeps compiles
+    none of it: sleep_paths.py);
     work: the step's per-body arrays (Work). phase_cycles (len(PHASES) + 1,) int64 receives the
     cycles per phase (engine/profile.py) and their total. Returns (log, memory, contacts)."""
     start = cycles()
@@ -253,9 +255,9 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
                 come_to_rest(rows, count, v, w, m, inertia, s.friction)
                 log = _log_contacts(rows, count, log, now, frame_collisions)
             if sleep.carried_count[0] > 0:
-                log = log_carried(sleep, log, now)
+                log = carry(sleep, log, now)
             remembered = remember(rows, count, n, N_WALLS + s.segments.shape[0])
-            memory = (keep_sleepers(sleep, remembered, memory, n, N_WALLS + s.segments.shape[0])
+            memory = (remember_sleepers(sleep, remembered, memory, n, N_WALLS + s.segments.shape[0])
                       if sleep.sleeping[0] > 0 else remembered)
             _mark_held(rows, count, scratch[3])
             t = _lap(phase_cycles, RESPONSE, t)
@@ -263,18 +265,17 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
             t = _lap(phase_cycles, STATICS, t)
             if count > 0 and settle_in_map(s.map, b.positions, b.radii):
                 t = _lap(phase_cycles, SETTLE, t)
-            if sleep.on:
-                fall_asleep(sleep, b, rows, count, dt)
+            doze(sleep, b, rows, count, dt)
             t = _lap(phase_cycles, SLEEP, t)
             found, rows, count, pairs, touching, t = _contact_phases(b, s, broad, sleep, dt, margin, lo, hi,
                                                                      vertices, found, rows, (pairs, touching),
                                                                      phase_cycles, t)
         out.candidates[frame] = pairs.shape[0]
-        if frame > 0 and still_since_record and all_still(sleep, n):
+        if frame > 0 and still_since_record and still(sleep, n):
             out.hierarchy[frame] = out.hierarchy[frame - 1]   # the same state as the frame before
         else:
             record_levels(levels, b, pairs, vertices, touching, out.hierarchy[frame])
-        still_since_record = all_still(sleep, n)
+        still_since_record = still(sleep, n)
         out.positions[frame] = b.positions
         out.velocities[frame] = b.velocities
         if out.angles.shape[1] == n:  # bodies that turn (see new_frames)

@@ -49,8 +49,9 @@ Sleep = namedtuple("Sleep", ["on", "speed", "still", "asleep", "fresh", "island"
 
 def new_sleep(world, rest_speed=None) -> Sleep:
     """The sleeping state of a world's n bodies at the start: all awake. rest_speed: None for the
-    default (ccd's: default_rest_speed), 0 for never, or a speed; sleeping is off (and its per-body
-    arrays empty) when every body's rest speed is 0."""
+    default (ccd's: default_rest_speed), 0 for never, or a speed; sleeping is off (`on` None, so
+    that the step compiles no sleeping: sleep_paths.py; its per-body arrays empty) when every
+    body's rest speed is 0."""
     n = world.n
     if rest_speed is None:
         rest_speed = default_rest_speed(world.gravity, world.radii, world.restitution) if n else np.zeros(0)
@@ -60,7 +61,7 @@ def new_sleep(world, rest_speed=None) -> Sleep:
     # room for the carried support: a row a body on a wall, two for a polygon's face (and some
     # for bodies in corners); an island with more does not sleep
     room = (2 * m if np.any(world.shapes != CIRCLE) else m) + 16 if on else 0
-    return Sleep(on, speed, np.zeros(m), np.zeros(n, np.bool_), np.zeros(m, np.bool_), np.zeros(m, np.int64),
+    return Sleep(True if on else None, speed, np.zeros(m), np.zeros(n, np.bool_), np.zeros(m, np.bool_), np.zeros(m, np.int64),
                  np.array(world.accelerations[:m], np.float64), np.empty(m, np.int64), np.empty(m),
                  np.empty((room, 5)), np.zeros(1, np.int64), np.zeros(1, np.int64))
 
