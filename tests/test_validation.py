@@ -21,6 +21,7 @@ BAD_WORLDS = {
     "box upside down": (dict(positions=[[1, 1]], box=(0, 0, -1, 1)), r"box must have xmax > xmin.*\[0.0, 0.0, -1.0"),
     "NaN velocity": (dict(positions=[[1, 1]], velocities=[[np.nan, 0]]), "velocities contains NaN or inf"),
     "segments of three numbers": (dict(positions=[[1, 1]], segments=[[0, 0, 1]]), r"segments must have shape \(m, 4\)"),
+    "negative friction": (dict(positions=[[1, 1]], friction=-1), "friction must be >= 0, got -1"),
 }
 
 
@@ -47,6 +48,8 @@ BAD_SCENES = {
     "seconds NaN": (dict(seconds=float("nan")), "seconds must be a finite number > 0"),
     "substeps fractional": (dict(substeps=2.5), "substeps must be a whole number >= 1, got 2.5"),
     "unknown method": (dict(method="verlet"), "unknown method 'verlet'; choose one of: discrete, ccd"),
+    "negative rest speed": (dict(rest_speed=-1), "rest_speed must be >= 0, got -1"),
+    "negative tc": (dict(tc=-0.5), "tc must be >= 0, got -0.5"),
 }
 
 

@@ -104,9 +104,9 @@ class Scene:
             raise ValueError(f"substeps must be a whole number >= 1, got {self.substeps!r}")
         self.substeps = int(self.substeps)
         if self.rest_speed is not None:
-            self.rest_speed = validate.number("rest_speed", self.rest_speed, low=0.0, high=np.inf)
+            self.rest_speed = validate.number("rest_speed", self.rest_speed, low=0.0)
         if self.tc is not None:
-            self.tc = validate.number("tc", self.tc, low=0.0, high=np.inf)
+            self.tc = validate.number("tc", self.tc, low=0.0)
         if self.broadphase not in ("auto",) + BROAD_PHASES:
             raise ValueError(f"unknown broad phase {self.broadphase!r}; choose one of: auto, "
                              f"{', '.join(BROAD_PHASES)}")

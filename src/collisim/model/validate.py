@@ -25,6 +25,10 @@ def number(name: str, value, *, low=None, high=None, positive=False) -> float:
     if not np.isfinite(value):
         raise ValueError(f"{name} must be finite, got {value:g}")
     if (low is not None and value < low) or (high is not None and value > high):
+        if high is None:
+            raise ValueError(f"{name} must be >= {low:g}, got {value:g}")
+        if low is None:
+            raise ValueError(f"{name} must be <= {high:g}, got {value:g}")
         raise ValueError(f"{name} must be in [{low:g}, {high:g}], got {value:g}")
     return value
 
