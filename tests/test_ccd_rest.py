@@ -274,3 +274,20 @@ def test_a_sleeper_left_touching_nothing_wakes_and_falls():
     assert positions[0, 0, 1] == 5.0 and not loop.bodies.asleep[0]          # woken at the first frame time
     fallen = 0.5 * G * (29 / 60) ** 2                                        # and falling freely since
     assert positions[-1, 0, 1] == pytest.approx(5.0 - fallen, rel=1e-12)
+
+
+def test_only_a_world_where_bodies_may_rest_compiles_resting():
+    """EventLoop.resting is None (the loop compiles no supports, sleeping nor carrying) exactly
+    when no body can rest: no gravity and no rest speed."""
+    from collisim.engine.ccd.events import start_event_loop
+
+    def resting(gravity, rest_speed=None, restitution=0.5):
+        return start_event_loop([[5.0, 5.0]], [[1.0, 0.0]], gravity, [0.5], [1.0], (0, 0, 10, 10), restitution,
+                                None, 1.0, rest_speed=rest_speed).resting
+
+    assert resting((0.0, 0.0)) is None
+    assert resting((0.0, 0.0), restitution=1.0) is None
+    assert resting((0.0, -G)) is True
+    assert resting((0.0, -G), restitution=1.0) is True          # elastic, but may still rest on a floor
+    assert resting((0.0, -G), rest_speed=0.0) is True
+    assert resting((0.0, 0.0), rest_speed=0.1) is True           # a stated rest speed may put bodies to sleep

@@ -120,13 +120,17 @@ def sample(bodies, t, positions, velocities):
 
 
 EventLoop = namedtuple("EventLoop", ["bodies", "grid", "env", "queue", "contacts", "done", "listed", "involved",
-                                     "base", "t_end", "supports", "tally"])
+                                     "base", "t_end", "supports", "tally", "resting"])
 EventLoop.__doc__ = """Everything the event loop keeps from one block of frames to the next, so that a run
 streamed in blocks of any size is the same run: bodies, grid, env; the event queue; scratch
 (contacts, done, listed, involved); base (event key packing); t_end (the run's end: nothing
 later is predicted); supports (what resting bodies' supports push with, support.py); tally (5,)
 int64: the events processed so far by kind — contacts with walls, particles and segments (kinds.py),
-cell crossings and slides off a segment's end (eventqueue.py) — for measuring events per second."""
+cell crossings and slides off a segment's end (eventqueue.py) — for measuring events per second;
+resting: True when bodies may come to rest or sleep (gravity, or a rest speed), None when they
+never can (a gas): the loop then compiles none of resting's and sleeping's bookkeeping (support.py,
+sleep.py, carried.py), which at run time would do nothing for it (about a fifth of a cold ccd
+run's compiling)."""
 
 
 def start_event_loop(positions, velocities, gravity, radii, masses, box, restitution, segments, t_end,
@@ -155,17 +159,25 @@ def start_event_loop(positions, velocities, gravity, radii, masses, box, restitu
     base = max(n, len(segments), N_WALLS) + 1
     done = np.zeros(n, np.bool_)
     queue = schedule_all(bodies, grid, env, new_queue(16 * (n + 1)), 0.0, t_end, base, done)
+    resting = True if np.any(gravity != 0.0) or np.any(rest_speed > 0.0) else None
     return EventLoop(bodies, grid, env, queue, new_contacts(4 * n + 16), done, np.zeros(n, np.bool_),
-                     np.empty(n, np.int64), base, float(t_end), new_supports(n), np.zeros(SLIDE_OFF + 1, np.int64))
+                     np.empty(n, np.int64), base, float(t_end), new_supports(n), np.zeros(SLIDE_OFF + 1, np.int64),
+                     resting)
 
 
-@njit(cache=True, error_model="numpy")
 def run(loop, frame_dt, first, count, budget, positions, velocities, counts, over_budget):
     """Frames first .. first + count - 1 of the run (frame f at t = f·frame_dt). Fills
     positions, velocities (count, n, 2), counts (count, 3) per kind and over_budget (count,)
     (frames whose last events were skipped, fallback.py). Returns the EventLog of their
     collisions in processing order and the (possibly larger) queue, which the caller keeps
     in the loop."""
+    return _run(loop, loop.resting, frame_dt, first, count, budget, positions, velocities, counts, over_budget)
+
+
+@njit(cache=True, error_model="numpy")
+def _run(loop, resting, frame_dt, first, count, budget, positions, velocities, counts, over_budget):
+    """run, with loop.resting as an argument: None prunes (before typing) every branch that
+    `resting is not None` guards, so that they never compile (EventLoop)."""
     bodies, grid, env, queue, contacts = loop.bodies, loop.grid, loop.env, loop.queue, loop.contacts
     done, listed, involved, base, t_end = loop.done, loop.listed, loop.involved, loop.base, loop.t_end
     supports, tally = loop.supports, loop.tally
@@ -181,7 +193,7 @@ def run(loop, frame_dt, first, count, budget, positions, velocities, counts, ove
         clock[:] = 0.0
         while True:   # frame_events stops to let the log or the queue grow (it cannot allocate)
             status = frame_events(bodies, grid, env, queue, contacts, log, done, listed, involved, base, t_end,
-                                  supports, tally, may_sleep, t_frame, budget, counts[row], state, clock)
+                                  supports, tally, resting, may_sleep, t_frame, budget, counts[row], state, clock)
             if status == NEED_LOG:
                 log = with_room(log, state[NEED])
             elif status == NEED_QUEUE:
@@ -190,15 +202,17 @@ def run(loop, frame_dt, first, count, budget, positions, velocities, counts, ove
                 break
         over_budget[row] = status == OVER_BUDGET
         t_last = clock[1]
-        log = log_frame_supports(log, bodies, env, supports, t_frame)
+        if resting is not None:
+            log = log_frame_supports(log, bodies, env, supports, t_frame)
         if over_budget[row]:
             skip_to_frame(bodies, env, t_last, t_frame)
             queue = schedule_all(bodies, grid, env, queue, t_frame, t_end, base, done)
-        fell = doze_all(bodies, grid, env, t_frame, involved)
-        if may_sleep:
-            log, fell = carry_sleepers(log, bodies, grid, env, supports, t_frame, involved, fell)
-        if fell:
-            queue = reschedule_growing(bodies, grid, env, queue, involved, fell, t_frame, t_end, base, done)
+        if resting is not None:
+            fell = doze_all(bodies, grid, env, t_frame, involved)
+            if may_sleep:
+                log, fell = carry_sleepers(log, bodies, grid, env, supports, t_frame, involved, fell)
+            if fell:
+                queue = reschedule_growing(bodies, grid, env, queue, involved, fell, t_frame, t_end, base, done)
         sample(bodies, t_frame, positions[row], velocities[row])
     return log, queue
 

@@ -34,11 +34,12 @@ STATE_SIZE = 6
 
 @uncounted
 def frame_events(bodies, grid, env, queue, contacts, log, done, listed, involved, base, t_end, supports, tally,
-                 may_sleep, t_frame, budget, frame_counts, state, clock):
+                 resting, may_sleep, t_frame, budget, frame_counts, state, clock):
     """Process the events up to t_frame (events.run's loop), going on from `state` and `clock`
     (all zero at the frame's start). Returns DONE, OVER_BUDGET (budget events were processed and
     more are due before t_frame), or NEED_LOG / NEED_QUEUE with the state to go on from.
-    clock[1]: the time of the last event processed."""
+    clock[1]: the time of the last event processed. resting: None when no body can ever rest or
+    sleep (EventLoop.resting), which prunes the supports' and sleepers' bookkeeping."""
     stage, n_involved, step = state[STAGE], state[INVOLVED], state[STEP]
     processed, collision, t = state[PROCESSED], state[COLLISION], clock[0]
     status = DONE
@@ -56,12 +57,14 @@ def frame_events(bodies, grid, env, queue, contacts, log, done, listed, involved
             kind, i, j = key_parts(key, base)
             collision = kind <= SEGMENT
             if collision:
-                n_involved = collect_collisions(bodies, grid, env, queue, contacts, t, key, base, involved, listed)
+                n_involved = collect_collisions(bodies, grid, env, queue, contacts, t, key, base, involved, listed,
+                                                resting)
                 solve_contacts(bodies, contacts)
                 settle_resting(bodies, env, contacts)
-                if may_sleep:
-                    doze(bodies, grid, env, contacts, involved, n_involved, t)
-                    take_hits(supports, contacts)
+                if resting is not None:
+                    if may_sleep:
+                        doze(bodies, grid, env, contacts, involved, n_involved, t)
+                        take_hits(supports, contacts)
                 mark_hits(bodies, contacts, t)
                 processed += contacts.count[0]
             else:
@@ -77,9 +80,10 @@ def frame_events(bodies, grid, env, queue, contacts, log, done, listed, involved
                 break
             if collision:
                 record_contacts(log, contacts, t, frame_counts, tally)
-            if may_sleep:
-                note_sleepers(log, bodies, grid, env, supports, involved, n_involved, t)
-            note_supports(log, bodies, env, supports, involved, n_involved, t)
+            if resting is not None:
+                if may_sleep:
+                    note_sleepers(log, bodies, grid, env, supports, involved, n_involved, t)
+                note_supports(log, bodies, env, supports, involved, n_involved, t)
             stage, step = PREDICTING, -1
         if stage == PREDICTING:
             step = reschedule(bodies, grid, env, queue, involved, n_involved, t, t_end, base, done, step)
@@ -139,11 +143,11 @@ def _involve(bodies, i, t, involved, count, listed):
 
 
 @uncounted
-def collect_collisions(bodies, grid, env, queue, contacts, t, key, base, involved, listed):
+def collect_collisions(bodies, grid, env, queue, contacts, t, key, base, involved, listed, resting):
     """Turn the collision `key` at time t (just popped) and every other current collision
     at exactly the same time into contacts, taking them off the queue. Fills involved
-    with the particles concerned (and those a hard hit on a sleeper wakes) and returns
-    their number."""
+    with the particles concerned (and those a hard hit on a sleeper wakes: only where bodies
+    may rest, `resting` not None) and returns their number."""
     contacts.count[0] = 0
     count = 0
     while True:
@@ -151,8 +155,9 @@ def collect_collisions(bodies, grid, env, queue, contacts, t, key, base, involve
         count = _involve(bodies, i, t, involved, count, listed)
         if kind == PAIR:
             count = _involve(bodies, j, t, involved, count, listed)
-            if bodies.asleep[i] != bodies.asleep[j]:
-                count = _wake_if_hit_hard(bodies, grid, env, i, j, t, involved, count, listed)
+            if resting is not None:
+                if bodies.asleep[i] != bodies.asleep[j]:
+                    count = _wake_if_hit_hard(bodies, grid, env, i, j, t, involved, count, listed)
             add_pair_contact(bodies, env, contacts, i, j)
         elif kind == WALL:
             add_wall_contact(bodies, env, contacts, i, j)
