@@ -78,6 +78,17 @@ def test_first_run_counts_compiles_per_function():
     assert callee["signatures"][1] == "array(int64, 1d, C), int64, int64"
 
 
+def test_first_run_reports_a_cold_run_alone():
+    # --warm 0 measured the cold run, then failed to print it (max() of no warm runs)
+    from collisim.analysis.bench.first_run import format_row
+    cold = {"cpu_seconds": 50.0, "compiles": 222, "compile_seconds": 49.0, "cache_save_seconds": 0.8}
+    warm = {"cpu_seconds": 1.2, "compiles": 0, "cache_loads": 12, "cache_load_seconds": 0.4, "import_seconds": 0.03}
+    report = {"scene": "particles_250", "method": "ccd", "cold": cold, "warm": [], "wall": {"cold": 51.0, "warm": []}}
+    assert format_row(report).endswith("222 compiles, 49.0 s compiling, 0.8 s of it saving)")
+    report.update(warm=[warm], wall={"cold": 51.0, "warm": [1.1]})
+    assert "warm 1.10 s (cpu 1.20 s; 0 compiles, 12 cache loads 0.40 s, import 0.03 s)" in format_row(report)
+
+
 CALLER = """
 import sys
 import collisim.compiling as compiling

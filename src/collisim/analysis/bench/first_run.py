@@ -127,12 +127,14 @@ def format_functions(report: dict, top: int = 15) -> str:
 
 def format_row(report: dict) -> str:
     cold, warm = report["cold"], report["warm"]
-    warm_walls = report["wall"]["warm"]
-    warm_text = ", ".join(f"{w:.2f}" for w in warm_walls)
+    row = (f"{report['scene']:<15} {report['method'] or '(own)':<9} cold {report['wall']['cold']:6.1f} s "
+           f"(cpu {cold['cpu_seconds']:.1f} s; {cold['compiles']} compiles, {cold['compile_seconds']:.1f} s "
+           f"compiling, {cold['cache_save_seconds']:.1f} s of it saving)")
+    if not warm:   # --warm 0: the cold run alone
+        return row
+    warm_text = ", ".join(f"{w:.2f}" for w in report["wall"]["warm"])
     warm_cpu = ", ".join(f"{w['cpu_seconds']:.2f}" for w in warm)
-    return (f"{report['scene']:<15} {report['method'] or '(own)':<9} cold {report['wall']['cold']:6.1f} s "
-            f"(cpu {cold['cpu_seconds']:.1f} s; {cold['compiles']} compiles, {cold['compile_seconds']:.1f} s "
-            f"compiling, {cold['cache_save_seconds']:.1f} s of it saving)  warm {warm_text} s (cpu {warm_cpu} s; "
+    return (f"{row}  warm {warm_text} s (cpu {warm_cpu} s; "
             f"{max(w['compiles'] for w in warm)} compiles, {warm[0]['cache_loads']} cache loads "
             f"{warm[0]['cache_load_seconds']:.2f} s, import {min(w['import_seconds'] for w in warm):.2f} s)")
 
@@ -146,6 +148,8 @@ def main(argv=None) -> int:
     parser.add_argument("--json", help="also write every report to this file")
     parser.add_argument("--child", action="store_true", help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
+    if args.warm < 0:
+        parser.error(f"--warm must be 0 or more, got {args.warm}")
     if args.child:
         print(json.dumps(_child(args.scenes[0], args.method[0] if args.method else None)))
         return 0
