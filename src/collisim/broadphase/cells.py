@@ -111,6 +111,8 @@ def make_grid(box, radii, segments, separate_large=True, packed=False):
     grid = CellGrid(float(box[0]), float(box[1]), cell_w, cell_h, nx, ny,
                     np.full(n, -1, np.int64), np.full(nx * ny, -1, np.int64), np.full(n, -1, np.int64),
                     np.full(n, -1, np.int64), np.zeros(nx * ny + 1, np.int64), np.zeros(0, np.int64), apart, reach)
+    if len(segments) == 0:   # every cell's list is empty (and the static index never compiles)
+        return grid
     start, listed = _register_segments(grid, segments, build_segment_index(segments, box),
                                        largest * (1.0 + CELL_MARGIN))
     return grid._replace(segment_start=start, segment_index=listed)
