@@ -82,9 +82,10 @@ def test_cli_renders_a_saved_trajectory(cli, tmp_path):
     first = cli("render", "single_bounce", "--seconds", "0.5", "--size", "160x90", "--no-progress",
                 "--out", tmp_path / "a.mp4", "--save-trajectory", saved)
     assert first.returncode == 0, first.stderr
-    again = cli("render", saved, "--size", "160x90", "--no-progress", "--out", tmp_path / "b.mp4")
+    again = cli("render", saved, "--size", "160x90", "--no-progress", "--out", tmp_path / "b.mp4", "--seconds", "5")
     assert again.returncode == 0, again.stderr
-    assert decode_video(tmp_path / "b.mp4")[:3] == (30, 160, 90)
+    assert decode_video(tmp_path / "b.mp4")[:3] == (30, 160, 90)   # it plays as long as it was simulated...
+    assert "ignoring --seconds" in again.stderr                      # ...and says so
     (tmp_path / "bad.npz").write_text("nonsense")
     bad = cli("render", tmp_path / "bad.npz", "--out", tmp_path / "c.mp4")
     assert bad.returncode == 2 and bad.stderr.strip().count("\n") == 0

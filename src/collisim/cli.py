@@ -115,6 +115,8 @@ def render_source(args):
     given = [flag for key, flag in PHYSICS_FLAGS.items() if getattr(args, key) is not None]
     if str(args.scene).endswith(".npz"):
         source = load_trajectory(args.scene)
+        if args.seconds is not None:   # it plays whole, as long as it was simulated
+            given.append("--seconds")
         if given:
             note(f"a saved trajectory plays as it was simulated; ignoring {', '.join(given)}")
         return source, Path(args.scene).stem, source.fps
