@@ -106,7 +106,6 @@ def stamp_with_package() -> None:
     impl.collisim_stamped = True
 
 
-
 @register_pass(mutates_CFG=False, analysis_only=True)
 class _ReturnsNoArray(FunctionPass):
     """Refuse, once types are known, an uncounted function that returns an array (see uncounted)."""

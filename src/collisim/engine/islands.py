@@ -61,9 +61,9 @@ def new_sleep(world, rest_speed=None) -> Sleep:
     # room for the carried support: a row a body on a wall, two for a polygon's face (and some
     # for bodies in corners); an island with more does not sleep
     room = (2 * m if np.any(world.shapes != CIRCLE) else m) + 16 if on else 0
-    return Sleep(True if on else None, speed, np.zeros(m), np.zeros(n, np.bool_), np.zeros(m, np.bool_), np.zeros(m, np.int64),
-                 np.array(world.accelerations[:m], np.float64), np.empty(m, np.int64), np.empty(m),
-                 np.empty((room, 5)), np.zeros(1, np.int64), np.zeros(1, np.int64))
+    return Sleep(True if on else None, speed, np.zeros(m), np.zeros(n, np.bool_), np.zeros(m, np.bool_),
+                 np.zeros(m, np.int64), np.array(world.accelerations[:m], np.float64), np.empty(m, np.int64),
+                 np.empty(m), np.empty((room, 5)), np.zeros(1, np.int64), np.zeros(1, np.int64))
 
 
 @uncounted
