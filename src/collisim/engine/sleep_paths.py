@@ -6,8 +6,8 @@ and each function below — one name whose implementation numba picks by the typ
 when the step compiles, as statics_paths.py does for segments and maps — is a no-op: the step
 of such a world never compiles the islands, the waking, the carried support nor the sleepers'
 warm-start memory (twelve compiles: particles_250's cold first frame took 3 to 10 CPU seconds
-less without them, alternating runs). A world
-that may sleep compiles its own step, cached on its own, with `on` True.
+less without them, alternating runs). A world that may sleep compiles its own step, cached on
+its own, with `on` True.
 """
 from numba.core import types
 from numba.extending import overload
