@@ -92,8 +92,7 @@ def stream(scene: Scene, block: int | None = None, progress=None, stepper=None, 
     while first <= total:
         count = min(block, total + 1 - first)
         if first == 0:  # the first block opens with the state at t = 0
-            frames, events = _join(_initial(world), *stepper.run(count - 1)) if count > 1 else (_initial(world),
-                                                                                                Events.empty())
+            frames, events = _first_block(world, stepper, count)
         else:
             frames, events = stepper.run(count, into(first, count) if into is not None else None)
         if progress is not None:
@@ -115,10 +114,19 @@ def _initial(world) -> Frames:
                   np.zeros(1, np.bool_), world_counts(world)[None])
 
 
-def _join(initial: Frames, frames: Frames, events: Events) -> tuple:
-    """The t = 0 sample followed by the first block's frames. Arrays that repeat one row
+def _first_block(world, stepper, count: int) -> tuple:
+    """(Frames, Events) of the t = 0 sample followed by the first count - 1 frames. The stepper
+    writes its positions and velocities straight after the initial state's row (no copy of the
+    block's largest arrays); the other arrays are joined, and those that repeat one row
     (constant_angles: bodies that never turn) stay a repeated row."""
-    return Frames(*(_joined(a, b) for a, b in zip(initial, frames))), events
+    initial = _initial(world)
+    if count == 1:
+        return initial, Events.empty()
+    positions, velocities = np.empty((count, world.n, 2)), np.empty((count, world.n, 2))
+    positions[0], velocities[0] = initial.positions[0], initial.velocities[0]
+    frames, events = stepper.run(count - 1, (positions[1:], velocities[1:]))
+    joined = (_joined(a, b) for a, b in zip(initial[2:], frames[2:]))
+    return Frames(positions, velocities, *joined), events
 
 
 def _joined(initial: np.ndarray, frames: np.ndarray) -> np.ndarray:

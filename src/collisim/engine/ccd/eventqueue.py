@@ -1,4 +1,4 @@
-"""The future-event queue: a binary min-heap of predicted events.
+"""The future-event queue: a min-heap (4-ary) of predicted events.
 
 An event is (time, key, count_i, count_j). The key packs (kind, i, j) into one
 integer so that events at the same time are always processed in the same order,
@@ -63,48 +63,60 @@ def _before(time_a, key_a, time_b, key_b):
     return time_a < time_b or (time_a == time_b and key_a < key_b)
 
 
-@uncounted
-def _swap(queue, a, b):
-    queue.time[a], queue.time[b] = queue.time[b], queue.time[a]
-    queue.key[a], queue.key[b] = queue.key[b], queue.key[a]
-    queue.count_i[a], queue.count_i[b] = queue.count_i[b], queue.count_i[a]
-    queue.count_j[a], queue.count_j[b] = queue.count_j[b], queue.count_j[a]
+ARITY = 4   # children per node: a shallower heap, whose four children share a cache line or two
 
 
 @uncounted
-def _sift_up(queue, slot):
-    time, key = queue.time, queue.key
+def _move(queue, source, target):
+    """Copy the event in slot source to slot target."""
+    queue.time[target], queue.key[target] = queue.time[source], queue.key[source]
+    queue.count_i[target], queue.count_j[target] = queue.count_i[source], queue.count_j[source]
+
+
+@uncounted
+def _place(queue, slot, time, key, count_i, count_j):
+    queue.time[slot], queue.key[slot], queue.count_i[slot], queue.count_j[slot] = time, key, count_i, count_j
+
+
+@uncounted
+def _sift_up(queue, slot, time, key, count_i, count_j):
+    """Put the event (time, key, count_i, count_j) into the hole at slot, moving it up: each
+    parent it comes before moves down into the hole, and the event is written once."""
     while slot > 0:
-        parent = (slot - 1) // 2
-        if not _before(time[slot], key[slot], time[parent], key[parent]):
-            return
-        _swap(queue, slot, parent)
+        parent = (slot - 1) // ARITY
+        if not _before(time, key, queue.time[parent], queue.key[parent]):
+            break
+        _move(queue, parent, slot)
         slot = parent
+    _place(queue, slot, time, key, count_i, count_j)
 
 
 @uncounted
-def _sift_down(queue, slot):
-    time, key = queue.time, queue.key
+def _sift_down(queue, slot, time, key, count_i, count_j):
+    """Put the event into the hole at slot, moving it down past every earliest child that comes
+    before it."""
     size = queue.size[0]
     while True:
-        first = slot
-        for child in (2 * slot + 1, 2 * slot + 2):
-            if child < size and _before(time[child], key[child], time[first], key[first]):
-                first = child
-        if first == slot:
-            return
-        _swap(queue, slot, first)
-        slot = first
+        first = ARITY * slot + 1
+        if first >= size:
+            break
+        best = first
+        for child in range(first + 1, min(first + ARITY, size)):
+            if _before(queue.time[child], queue.key[child], queue.time[best], queue.key[best]):
+                best = child
+        if not _before(queue.time[best], queue.key[best], time, key):
+            break
+        _move(queue, best, slot)
+        slot = best
+    _place(queue, slot, time, key, count_i, count_j)
 
 
 @uncounted
 def push(queue, time, key, count_i, count_j):
     """Add an event; the caller has reserved room for it."""
     slot = queue.size[0]
-    queue.time[slot], queue.key[slot] = time, key
-    queue.count_i[slot], queue.count_j[slot] = count_i, count_j
     queue.size[0] = slot + 1
-    _sift_up(queue, slot)
+    _sift_up(queue, slot, time, key, count_i, count_j)
 
 
 @uncounted
@@ -112,9 +124,9 @@ def pop(queue):
     """Remove the earliest event and return it as (time, key, count_i, count_j)."""
     top = (queue.time[0], queue.key[0], queue.count_i[0], queue.count_j[0])
     last = queue.size[0] - 1
-    _swap(queue, 0, last)
     queue.size[0] = last
-    _sift_down(queue, 0)
+    if last > 0:   # the last event fills the hole at the top
+        _sift_down(queue, 0, queue.time[last], queue.key[last], queue.count_i[last], queue.count_j[last])
     return top
 
 
@@ -143,6 +155,6 @@ def reserve(queue, extra, counters, base):
     larger.time[:kept], larger.key[:kept] = queue.time[:kept], queue.key[:kept]
     larger.count_i[:kept], larger.count_j[:kept] = queue.count_i[:kept], queue.count_j[:kept]
     larger.size[0] = kept
-    for slot in range(kept // 2 - 1, -1, -1):
-        _sift_down(larger, slot)
+    for slot in range((kept - 2) // ARITY, -1, -1):   # every node with a child, deepest first
+        _sift_down(larger, slot, larger.time[slot], larger.key[slot], larger.count_i[slot], larger.count_j[slot])
     return larger

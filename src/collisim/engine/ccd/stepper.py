@@ -13,7 +13,7 @@ import numpy as np
 
 from ...model.kinds import CIRCLE, MAP, SEGMENT
 from ...model.trajectory import Events
-from ..discrete import new_frames
+from ..discrete import constant_angles, new_frames
 from ..profile import Profile
 from .eventqueue import CELL
 from .events import run, sorted_log, start_event_loop
@@ -58,7 +58,8 @@ class CCDStepper:
         """Advance `count` frames: (Frames, Events). into: where to write the frames' positions
         and velocities (discrete.new_frames), or None for new arrays."""
         w = self.world
-        out = new_frames(count, w.n, into=into)
+        turning = bool(np.any(w.angular_velocities != 0.0))
+        out = new_frames(count, w.n, turning, into)
         over_budget = np.zeros(count, np.bool_)
         start = time.perf_counter()
         log, queue = run(self.loop, self.frame_dt, self._frames_done + 1, count, self.max_events, out.positions,
@@ -70,9 +71,12 @@ class CCDStepper:
             self.warnings.append(f"more than {self.max_events} events in a frame, first at frame "
                                  f"{self._frames_done + 1 + int(np.argmax(over_budget))}; {FALLBACK_NOTE}")
         # circles turn freely between contacts, and ccd's contacts have no torque
-        elapsed = (self._frames_done + np.arange(1, count + 1)) * self.frame_dt
-        out.angles[:] = w.angles + np.outer(elapsed, w.angular_velocities)
-        out.angular_velocities[:] = w.angular_velocities
+        if turning:
+            elapsed = (self._frames_done + np.arange(1, count + 1)) * self.frame_dt
+            out.angles[:] = w.angles + np.outer(elapsed, w.angular_velocities)
+            out.angular_velocities[:] = w.angular_velocities
+        else:
+            out = constant_angles(out, w.angles.copy(), w.angular_velocities.copy())
         self._frames_done += count
         return out, map_events(Events(*sorted_log(log)), len(w.segments))
 
