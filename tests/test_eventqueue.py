@@ -6,7 +6,8 @@ import heapq
 import numpy as np
 import pytest
 
-from collisim.engine.ccd.eventqueue import new_queue, pop, push, reserve
+from collisim.engine.ccd.eventqueue import event_key, new_queue, pop, push, reserve
+from collisim.model.kinds import PAIR
 
 
 def _drain(queue):
@@ -38,7 +39,7 @@ def test_growing_keeps_the_current_events_and_their_order(size):
     queue, kept = new_queue(max(size, 1)), []
     for _ in range(size):
         i, j = (int(v) for v in rng.choice(n, 2, replace=False))
-        time, key = float(rng.integers(0, 30)), (1 * base + i) * base + j
+        time, key = float(rng.integers(0, 30)), event_key(PAIR, i, j, base)
         stale = rng.random() < 0.5
         push(queue, time, key, counters[i] - stale, counters[j])
         if not stale:
