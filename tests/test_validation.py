@@ -67,3 +67,13 @@ def test_a_duration_that_is_not_a_whole_number_of_frames_is_rounded_and_said():
         exact = collisim.Scene(world=collisim.World([[1, 1]]), fps=60, seconds=2.0)
     assert scene.frames == 61 and exact.frames == 120
     assert [str(w.message) for w in caught] == ["1.01 s at 60 fps is 60.6 frames; using 61 frames (1.01667 s)"]
+
+
+def test_a_frame_rate_and_a_length_given_together_are_checked_together():
+    """--physics-fps 0.05 --seconds 40 is two frames: valid, though 0.05 fps over the scene's own
+    10 s is under one frame; and an error names the length asked for, not the scene's."""
+    scene = collisim.load_scene("particles_250")
+    assert scene.seconds * 0.05 < 1
+    assert scene.with_options(fps=0.05, seconds=40).frames == 2
+    with pytest.raises(ValueError, match=r"^seconds=0\.1 at fps=1e-09 is shorter than one frame$"):
+        scene.with_options(fps=1e-9, seconds=0.1)

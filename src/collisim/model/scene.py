@@ -121,12 +121,13 @@ class Scene:
                      broadphase=None, restitution=None) -> "Scene":
         """Apply command-line style overrides. A panel scene keeps its panels' physics (they exist
         to compare settings); its video fps and duration change."""
-        scene = self
+        timing = {}   # fps and seconds in one step: an error names the values asked for together
         if fps is not None:
-            scene = scene.replace(fps=fps)
+            timing["fps"] = fps
         if seconds is not None:  # chapters keep their lengths: the video is cut or held
-            panels = tuple(Panel(p.scene.replace(seconds=seconds), p.title) for p in scene.panels)
-            scene = scene.replace(seconds=seconds, panels=panels)
+            timing["seconds"] = seconds
+            timing["panels"] = tuple(Panel(p.scene.replace(seconds=seconds), p.title) for p in self.panels)
+        scene = self.replace(**timing) if timing else self
         physics = {k: v for k, v in dict(method=method, substeps=substeps, broadphase=broadphase).items()
                    if v is not None}
         if scene.world is not None:
