@@ -163,6 +163,9 @@ def test_frames_over_the_event_budget_are_flagged_counted_and_said_once(tmp_path
     with pytest.warns(UserWarning, match=f"{shown} of 30 frames of the scene are approximate") as rendered:
         collisim.render(scene, tmp_path / "gas.mp4", (160, 90))
     assert len(rendered) == 1
+    with pytest.warns(UserWarning, match=f"{shown} of 30 frames of the scene are approximate") as still:
+        collisim.render(scene, tmp_path / "gas.png", (160, 90), png_frame=29)   # a still says so too
+    assert len(still) == 1
 
 
 def test_the_event_budget_grows_with_the_number_of_bodies():

@@ -223,20 +223,20 @@ def _play(chapters, fps, frames, path, size, codec, quality, png_frame, transpar
                     timeline.draw(canvas, frame)
                     progress.step(png_frame + 1, path.name)
                 write_png(path, canvas, background_bgr if transparent else None)
-                return path
-            draw_seconds = 0.0
-            with open_writer(codec, path, fps, size, quality, transparent=transparent, background=background_bgr,
-                             name=name, frames=frames) as video:
-                for frame in range(frames):
-                    canvas = video.frame_buffer()
-                    start = time.perf_counter()
-                    timeline.draw(canvas, frame)
-                    draw_seconds += time.perf_counter() - start
-                    video.write(canvas)
-                    progress.step(frames, path.name)
+            else:
+                draw_seconds = 0.0
+                with open_writer(codec, path, fps, size, quality, transparent=transparent,
+                                 background=background_bgr, name=name, frames=frames) as video:
+                    for frame in range(frames):
+                        canvas = video.frame_buffer()
+                        start = time.perf_counter()
+                        timeline.draw(canvas, frame)
+                        draw_seconds += time.perf_counter() - start
+                        video.write(canvas)
+                        progress.step(frames, path.name)
         finally:
             progress.close()
-    if profile is not None:
+    if profile is not None and png_frame is None:
         for phase, seconds in timeline.profile().items():
             profile[phase] = profile.get(phase, 0.0) + seconds
         simulated = sum(profile.values())
