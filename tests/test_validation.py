@@ -1,4 +1,5 @@
 """Bad worlds and scenes are one ValueError line in the product's words, before anything runs."""
+import re
 import warnings
 
 import numpy as np
@@ -77,3 +78,14 @@ def test_a_frame_rate_and_a_length_given_together_are_checked_together():
     assert scene.with_options(fps=0.05, seconds=40).frames == 2
     with pytest.raises(ValueError, match=r"^seconds=0\.1 at fps=1e-09 is shorter than one frame$"):
         scene.with_options(fps=1e-9, seconds=0.1)
+
+
+@pytest.mark.parametrize("gravity, words", [(-9.81, "a vector of two numbers, such as (0, -9.81), got -9.81"),
+                                            ((0, 1, 2), "a vector of two numbers"),
+                                            ([[0, -9.81]], "a vector of two numbers"),
+                                            ((0, np.nan), "NaN or inf"), (("a", 1), "must be numbers")])
+def test_gravity_is_one_vector(gravity, words):
+    """A scalar would have been copied into both components: a diagonal pull nobody asked for."""
+    with pytest.raises(ValueError, match=re.escape(words)):
+        collisim.World([[1, 1], [3, 3]], gravity=gravity)
+    assert collisim.World([[1, 1], [3, 3]], gravity=(0, -9.81)).accelerations.tolist() == [[0, -9.81]] * 2

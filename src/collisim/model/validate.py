@@ -51,6 +51,20 @@ def per_body(name: str, value, n: int, columns: int | None = None) -> np.ndarray
     return np.broadcast_to(array, shape).copy()
 
 
+def vector(name: str, value, example: str) -> np.ndarray:
+    """A 2D vector (2,) float64, finite; a scalar is refused rather than copied into both
+    components (gravity=-9.81 would otherwise pull diagonally)."""
+    try:
+        array = np.array(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be numbers, got {_short(value)}") from None
+    if array.shape != (2,):
+        raise ValueError(f"{name} must be a vector of two numbers, such as {example}, got {_short(value)}")
+    if not np.all(np.isfinite(array)):
+        raise ValueError(f"{name} contains NaN or inf")
+    return array
+
+
 def positions_array(value) -> np.ndarray:
     """Centres (n, 2); [] for no bodies. One body is [[x, y]], never [x, y]."""
     return _rows("positions", value, 2, "(n, 2)", hint=" (one body is written [[x, y]])")

@@ -52,7 +52,7 @@ class World:
         self.velocities = validate.per_body("velocities", 0.0 if velocities is None else velocities, n, 2)
         self.angles = validate.per_body("angles", angles, n)
         self.angular_velocities = validate.per_body("angular_velocities", angular_velocities, n)
-        self.gravity = validate.per_body("gravity", gravity, 1, 2)[0]
+        self.gravity = validate.vector("gravity", gravity, "(0, -9.81)")
         self.accelerations = validate.per_body("accelerations", self.gravity if accelerations is None
                                                else accelerations, n, 2)
         self.radii = validate.per_body("radii", radii, n)
