@@ -123,6 +123,11 @@ def test_api_raises_value_error_with_the_same_messages(tmp_path, monkeypatch):
         collisim.render(scene, tmp_path / "a.mp4", size=(10, 10))
     with pytest.raises(ValueError, match="unknown scene"):
         collisim.load_scene("nope")
+    with pytest.raises(ValueError, match="^scene file not found: "):
+        collisim.load_scene(tmp_path / "nope.py")
+    (tmp_path / "folder.py").mkdir()
+    with pytest.raises(ValueError, match=r"^scene file .*folder\.py is a folder, not a file$"):
+        collisim.load_scene(tmp_path / "folder.py")
     with pytest.raises(ValueError, match="fps must be"):
         scene.replace(fps=-1)
     with pytest.raises(ValueError, match="cannot write to output folder"):

@@ -368,15 +368,21 @@ BAD_FILES = {
 }
 
 
-@pytest.mark.parametrize("case", [*BAD_FILES, "missing file"])
+@pytest.mark.parametrize("case", [*BAD_FILES, "missing file", "folder"])
 def test_a_bad_sweep_file_is_one_line_and_nothing_runs(tmp_path, capsys, monkeypatch, case):
     monkeypatch.setattr(runner, "run_job", lambda *a: pytest.fail("a job ran"))
-    path = tmp_path / "missing.toml" if case == "missing file" else write(tmp_path, BAD_FILES[case][0], "bad.toml")
+    if case in BAD_FILES:
+        path = write(tmp_path, BAD_FILES[case][0], "bad.toml")
+    else:
+        path = tmp_path / ("missing.toml" if case == "missing file" else "sweeps.toml")
+        if case == "folder":
+            path.mkdir()
     status = sweep_cli(path, "--workers", "0", "--out", tmp_path / "out" / "bad.csv")
     err = capsys.readouterr().err
     assert status == 2
     assert err.count("\n") == 1 and err.startswith("collisim: error: ") and "Traceback" not in err
-    assert (BAD_FILES[case][1] if case in BAD_FILES else "sweep file not found") in err
+    expected = {"missing file": "sweep file not found", "folder": "sweeps.toml is a folder, not a file"}
+    assert (BAD_FILES[case][1] if case in BAD_FILES else expected[case]) in err
     assert not (tmp_path / "out").exists()
 
 

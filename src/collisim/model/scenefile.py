@@ -12,6 +12,7 @@ import sys
 from pathlib import Path
 
 from .scene import Scene
+from .validate import missing_file
 
 def scene_dirs() -> list:
     """Where scenes are looked up by name: $COLLISIM_SCENES (os.pathsep-separated), ./scenes,
@@ -50,7 +51,7 @@ def resolve_scene_path(name_or_path) -> Path:
     path = Path(text)
     if text.endswith(".py") or os.sep in text:
         if not path.is_file():
-            raise ValueError(f"scene file not found: {text}")
+            raise ValueError(missing_file("scene file", text))
         return path
     scenes = available_scenes()
     if text not in scenes:

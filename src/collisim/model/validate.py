@@ -9,6 +9,7 @@ Touching is allowed (within a relative 1e-9, so bodies placed touching by arithm
 from __future__ import annotations
 
 import numbers
+from pathlib import Path
 
 import numpy as np
 
@@ -63,6 +64,16 @@ def vector(name: str, value, example: str) -> np.ndarray:
     if not np.all(np.isfinite(array)):
         raise ValueError(f"{name} contains NaN or inf")
     return array
+
+
+def missing_file(what: str, text: str) -> str:
+    """The line for a path that is not a readable file: not found, a folder, or something else."""
+    path = Path(text)
+    if path.is_dir():
+        return f"{what} {text} is a folder, not a file"
+    if path.exists():
+        return f"{what} {text} is not a regular file"
+    return f"{what} not found: {text}"
 
 
 def positions_array(value) -> np.ndarray:

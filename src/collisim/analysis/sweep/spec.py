@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ...broadphase import NAMES as BROAD_PHASES
+from ...model.validate import missing_file
 from .workloads import WORKLOADS, takes
 
 if sys.version_info >= (3, 11):
@@ -172,7 +173,7 @@ def find_sweep_file(text) -> Path:
         if str(text) in shipped:
             return shipped[str(text)]
         raise ValueError(f"unknown sweep '{text}': not a file, nor a shipped sweep ({', '.join(shipped)})")
-    raise ValueError(f"sweep file not found: {text}")
+    raise ValueError(missing_file("sweep file", str(text)))
 
 
 def shipped_sweeps() -> dict:
