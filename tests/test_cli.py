@@ -128,6 +128,7 @@ def test_api_raises_value_error_with_the_same_messages(tmp_path, monkeypatch):
     (tmp_path / "folder.py").mkdir()
     with pytest.raises(ValueError, match=r"^scene file .*folder\.py is a folder, not a file$"):
         collisim.load_scene(tmp_path / "folder.py")
+    (tmp_path / "folder.py").rmdir()
     with pytest.raises(ValueError, match="fps must be"):
         scene.replace(fps=-1)
     with pytest.raises(ValueError, match="cannot write to output folder"):
