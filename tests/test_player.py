@@ -1,6 +1,8 @@
 """The player draws whatever Trajectory it is given: a scene's stream, a saved run, pymunk's run,
 or several runs side by side. Checked on decoded video."""
+import gc
 import json
+import warnings
 import zipfile
 
 import numpy as np
@@ -53,9 +55,30 @@ def test_bad_trajectory_files_are_one_clear_error(scene, tmp_path):
     (tmp_path / "foreign.npz").write_bytes(b"not a zip at all")
     with zipfile.ZipFile(tmp_path / "empty.npz", "w"):
         pass
-    for name in ("broken.npz", "foreign.npz", "empty.npz", "missing.npz"):
-        with pytest.raises(ValueError, match="cannot read trajectory .*: (not a collisim trajectory file|not found)"):
-            collisim.load_trajectory(tmp_path / name)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        for name in ("broken.npz", "foreign.npz", "empty.npz", "missing.npz"):
+            with pytest.raises(ValueError, match="cannot read trajectory .*: (not a collisim trajectory file|not found)"):
+                collisim.load_trajectory(tmp_path / name)
+        gc.collect()
+    assert [str(w.message) for w in caught] == []   # no file left open (a second line on the command line)
+
+
+@pytest.mark.parametrize("change, words", [
+    (lambda a: a.update(frame_positions=a["frame_positions"][:, :1]), "positions has shape"),
+    (lambda a: a.update(frame_times=a["frame_times"][:-1]), "has shape"),
+    (lambda a: a.update(event_i=a["event_i"] + 1000), "events name bodies outside 0.."),
+    (lambda a: a.update(event_point=a["event_point"][:, :1]), "event point has shape")])
+def test_a_trajectory_file_whose_arrays_disagree_is_refused(tmp_path, change, words):
+    """Edited or mixed-up arrays would otherwise draw something, with no word of what."""
+    path = collisim.simulate(collisim.load_scene("particles_250").replace(seconds=0.2)).save(tmp_path / "run.npz")
+    with np.load(path) as data:
+        arrays = dict(data)
+    assert len(arrays["event_i"]) > 0
+    change(arrays)
+    np.savez(tmp_path / "edited.npz", **arrays)
+    with pytest.raises(ValueError, match=f"cannot read trajectory .*edited.npz: its arrays disagree .*{words}"):
+        collisim.load_trajectory(tmp_path / "edited.npz")
 
 
 def test_a_saved_trajectory_renders_the_same_frames_as_the_scene(scene, tmp_path):

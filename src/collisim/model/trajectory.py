@@ -196,8 +196,8 @@ def load_trajectory(path) -> Trajectory:
     """Read a file written by Trajectory.save. A missing, broken or foreign file, or one of
     another format version, raises ValueError with one line."""
     path = Path(path)
-    try:
-        with np.load(path, allow_pickle=False) as data:
+    try:   # the file opened here, not by np.load, which leaves it open when the archive is broken
+        with open(path, "rb") as file, np.load(file, allow_pickle=False) as data:
             meta = json.loads(str(data["meta"]))
             arrays = {key: data[key] for key in data.files if key != "meta"}
     except FileNotFoundError:
@@ -215,11 +215,36 @@ def load_trajectory(path) -> Trajectory:
         events = Events(*(arrays[f"event_{name}"] for name in _EVENT_FIELDS))
         frames = {name: arrays[f"frame_{name}"] for name in _FRAME_FIELDS if name != "hierarchy"}
         frames["hierarchy"] = arrays.get("frame_hierarchy")   # None in files from before it: NOT_COUNTED
+        problem = _disagreement(frames, events, world.n)
+        if problem:
+            raise ValueError(f"cannot read trajectory {path}: its arrays disagree ({problem})")
         return Trajectory(**frames, world=world, fps=float(meta["fps"]), events=events, method=meta["method"],
                           broadphase=meta["broadphase"], substeps=int(meta["substeps"]), profile=meta["profile"],
                           warnings=list(meta["warnings"]), storage=meta.get("storage", "float64"))
     except KeyError:
         raise ValueError(f"cannot read trajectory {path}: not a collisim trajectory file") from None
+
+
+def _disagreement(frames: dict, events: Events, n: int) -> str:
+    """The first array of a file whose shape does not fit its frame count and n bodies (or whose
+    events name a body that is not there), or ''."""
+    count = len(frames["times"])
+    per_body = {"positions": (count, n, 2), "velocities": (count, n, 2), "angles": (count, n),
+                "angular_velocities": (count, n)}
+    for name in _FRAME_FIELDS:
+        value = frames[name]
+        shape = per_body.get(name, (count, len(LEVELS)) if name == "hierarchy" else (count,))
+        if value is not None and value.shape != shape:
+            return f"{name} has shape {value.shape}, not {shape}"
+    k = len(events.time)
+    for name in _EVENT_FIELDS:
+        value = getattr(events, name)
+        shape = (k, 2) if name == "point" else (k,)
+        if value.shape != shape:
+            return f"event {name} has shape {value.shape}, not {shape}"
+    if k and not (0 <= events.i.min() and events.i.max() < n):
+        return f"events name bodies outside 0..{n - 1}"
+    return ""
 
 
 def _embedded_map(arrays: dict, path):
