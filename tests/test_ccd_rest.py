@@ -276,6 +276,37 @@ def test_a_sleeper_left_touching_nothing_wakes_and_falls():
     assert positions[-1, 0, 1] == pytest.approx(5.0 - fallen, rel=1e-12)
 
 
+@pytest.mark.xfail(strict=True, reason="known limit (README, sleep.py): a sleeper pushed aside slower than "
+                                       "its rest speed stays a fixed obstacle")
+def test_a_frictionless_pyramid_of_three_collapses_as_without_sleeping():
+    """Two balls at rest on the floor and one on top of them: a frictionless floor holds the
+    bottom two up, not in place, so the top one pushes them apart and ends on the floor, as
+    it does with sleeping off (rest_speed 0: exact events only), in the discrete method and
+    in pymunk. With sleeping on, the bottom two fall asleep at the first instant, before the
+    top ball's weight reaches them, and the pyramid stands: this test fails until sleeping
+    lets a sleeper slide where nothing holds it (strict: it says so when it passes)."""
+    positions = [[4.5, 0.5], [5.5, 0.5], [5.0, 0.5 + math.sqrt(3) / 2]]
+    world, traj = ccd(positions, restitution=0.3)
+    exact = collisim.simulate(collisim.Scene(world=world, fps=60, seconds=3.0, method="ccd", rest_speed=0.0))
+    end, reference = traj.positions[-1], exact.positions[-1]
+    assert end[2, 1] == pytest.approx(0.5, abs=1e-9)                     # the top ball is on the floor
+    assert reference[2, 1] == pytest.approx(0.5, abs=1e-9)
+    assert np.abs(end[:2, 0] - reference[:2, 0]).max() < 0.1 * 0.5      # the bottom two where they slid to
+    assert end[0, 0] < 2.0 and end[1, 0] > 8.0
+    assert largest_overlap(traj) < 1e-9
+
+
+def test_a_row_held_between_the_walls_under_two_balls_stays_still():
+    """A row of three balls wall to wall, two more in its cradles: the row's neighbours and the
+    walls hold every push, so everything ends still, within a micro-bounce of where it began
+    (the pyramid above's counterpart: a held row must not slide)."""
+    r3 = math.sqrt(3) / 2
+    positions = [[0.5, 0.5], [1.5, 0.5], [2.5, 0.5], [1.0, 0.5 + r3], [2.0, 0.5 + r3]]
+    world, traj = ccd(positions, restitution=0.3, box=(0, 0, 3, 5))
+    assert np.abs(traj.positions[-1] - traj.positions[0]).max() < 1e-3 * 0.5   # micro-bounces only
+    assert traj.kinetic_energy()[-1] == 0.0
+
+
 def test_only_a_world_where_bodies_may_rest_compiles_resting():
     """EventLoop.resting is None (the loop compiles no supports, sleeping nor carrying) exactly
     when no body can rest: no gravity and no rest speed."""
