@@ -14,6 +14,7 @@ from pathlib import Path
 from .scene import Scene
 from .validate import missing_file
 
+
 def scene_dirs() -> list:
     """Where scenes are looked up by name: $COLLISIM_SCENES (os.pathsep-separated), ./scenes,
     and the scenes/ folder of the source tree this package belongs to."""
