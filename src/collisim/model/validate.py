@@ -37,32 +37,24 @@ def number(name: str, value, *, low=None, high=None, positive=False) -> float:
 def per_body(name: str, value, n: int, columns: int | None = None) -> np.ndarray:
     """A per-body array: (n,) or (n, columns) float64, from a scalar (or one row) broadcast to
     every body, or from an array of exactly that shape. Anything else is one clear line."""
-    try:
-        array = np.array(value, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be numbers, got {_short(value)}") from None
+    array = _floats(name, value)
     shape = (n,) if columns is None else (n, columns)
     single = () if columns is None else (columns,)
     if array.shape not in (shape, single, ()):
         want = f"({n},)" if columns is None else f"({n}, {columns})"
         raise ValueError(f"{name} must have shape {want} for {n} bod{'y' if n == 1 else 'ies'}, "
                          f"got shape {array.shape}")
-    if not np.all(np.isfinite(array)):
-        raise ValueError(f"{name} contains NaN or inf")
+    _check_finite(name, array)
     return np.broadcast_to(array, shape).copy()
 
 
 def vector(name: str, value, example: str) -> np.ndarray:
     """A 2D vector (2,) float64, finite; a scalar is refused rather than copied into both
     components (gravity=-9.81 would otherwise pull diagonally)."""
-    try:
-        array = np.array(value, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be numbers, got {_short(value)}") from None
+    array = _floats(name, value)
     if array.shape != (2,):
         raise ValueError(f"{name} must be a vector of two numbers, such as {example}, got {_short(value)}")
-    if not np.all(np.isfinite(array)):
-        raise ValueError(f"{name} contains NaN or inf")
+    _check_finite(name, array)
     return array
 
 
@@ -96,10 +88,7 @@ def collision_map(value):
 
 def _rows(name: str, value, columns: int, shape_text: str, hint: str = "", flat_row: bool = False) -> np.ndarray:
     """A finite (k, columns) float64 array, or ValueError naming `name`."""
-    try:
-        array = np.array(value, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be numbers, got {_short(value)}") from None
+    array = _floats(name, value)
     if array.size == 0:
         return np.zeros((0, columns))
     if flat_row and array.shape == (columns,):
@@ -107,8 +96,7 @@ def _rows(name: str, value, columns: int, shape_text: str, hint: str = "", flat_
     if array.ndim != 2 or array.shape[1] != columns:
         extra = hint if array.shape == (columns,) else ""
         raise ValueError(f"{name} must have shape {shape_text}, got shape {array.shape}{extra}")
-    if not np.all(np.isfinite(array)):
-        raise ValueError(f"{name} contains NaN or inf")
+    _check_finite(name, array)
     return array
 
 
@@ -167,6 +155,19 @@ def _outside_map(world) -> None:
         i = pairs[deep[0], 0]
         raise ValueError(f"body {i} overlaps the collision map's outline by {depths[deep[0]]:.3g} at the start; "
                          f"place it in free space")
+
+
+def _floats(name: str, value) -> np.ndarray:
+    """value as a float64 array, or ValueError naming `name`."""
+    try:
+        return np.array(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be numbers, got {_short(value)}") from None
+
+
+def _check_finite(name: str, array: np.ndarray) -> None:
+    if not np.all(np.isfinite(array)):
+        raise ValueError(f"{name} contains NaN or inf")
 
 
 def _short(value) -> str:
