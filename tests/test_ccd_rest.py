@@ -276,15 +276,13 @@ def test_a_sleeper_left_touching_nothing_wakes_and_falls():
     assert positions[-1, 0, 1] == pytest.approx(5.0 - fallen, rel=1e-12)
 
 
-@pytest.mark.xfail(strict=True, reason="known limit (README, sleep.py): a sleeper pushed aside slower than "
-                                       "its rest speed stays a fixed obstacle")
 def test_a_frictionless_pyramid_of_three_collapses_as_without_sleeping():
     """Two balls at rest on the floor and one on top of them: a frictionless floor holds the
     bottom two up, not in place, so the top one pushes them apart and ends on the floor, as
     it does with sleeping off (rest_speed 0: exact events only), in the discrete method and
-    in pymunk. With sleeping on, the bottom two fall asleep at the first instant, before the
-    top ball's weight reaches them, and the pyramid stands: this test fails until sleeping
-    lets a sleeper slide where nothing holds it (strict: it says so when it passes)."""
+    in pymunk. Sleeping must not freeze it: the bottom two once fell asleep at the first
+    instant, before the top ball's weight reached them, and the pyramid stood for ever
+    (sleep.yields)."""
     positions = [[4.5, 0.5], [5.5, 0.5], [5.0, 0.5 + math.sqrt(3) / 2]]
     world, traj = ccd(positions, restitution=0.3)
     exact = collisim.simulate(collisim.Scene(world=world, fps=60, seconds=3.0, method="ccd", rest_speed=0.0))
@@ -293,6 +291,22 @@ def test_a_frictionless_pyramid_of_three_collapses_as_without_sleeping():
     assert reference[2, 1] == pytest.approx(0.5, abs=1e-9)
     assert np.abs(end[:2, 0] - reference[:2, 0]).max() < 0.1 * 0.5      # the bottom two where they slid to
     assert end[0, 0] < 2.0 and end[1, 0] > 8.0
+    assert largest_overlap(traj) < 1e-9
+
+
+@pytest.mark.parametrize("offset", [0.05, 0.3, 0.6])
+def test_a_ball_leaning_on_another_pushes_it_aside_as_without_sleeping(offset):
+    """A ball on top of another (radius 0.5), its centre `offset` to the side: it slides off and
+    pushes the lower one the other way along the frictionless floor. With sleeping on, both end where they end with it off, within a tenth of a radius; the
+    lower one once fell asleep at once and stayed put, and nearly balanced (0.05) the upper one
+    stayed on top."""
+    positions = [[5.0, 0.5], [5.0 + offset, 0.5 + math.sqrt(1.0 - offset * offset)]]
+    world, traj = ccd(positions, restitution=0.3)
+    exact = collisim.simulate(collisim.Scene(world=world, fps=60, seconds=3.0, method="ccd", rest_speed=0.0))
+    end, reference = traj.positions[-1], exact.positions[-1]
+    assert np.allclose(end[:, 1], 0.5, atol=1e-9) and np.allclose(reference[:, 1], 0.5, atol=1e-9)   # both down
+    assert np.abs(end[:, 0] - reference[:, 0]).max() < 0.1 * 0.5
+    assert end[0, 0] < 4.0 and end[1, 0] > 6.0                          # pushed apart, not frozen in place
     assert largest_overlap(traj) < 1e-9
 
 

@@ -8,7 +8,7 @@ carried, what the bodies resting on it passed to it, and the hits it took withou
 At every frame time the loads go down the pile, from the highest sleeper to the lowest. Each
 sleeper splits its load between the two of its supports whose normals lie nearest the load's
 direction on either side of it — the walls, segments and lower sleeping bodies it touches
-(within sleep.SLEEP_GAP of its radius) — by the same two-support statics as a body wedged on
+(within leaning.SLEEP_GAP of its radius) — by the same two-support statics as a body wedged on
 two walls (support.py): N_a a + N_b b = -load. Only lower bodies support a sleeper, so loads
 only go down and one pass from the top carries them all. A wall or a segment logs what it gets as a
 kinds.SUPPORT event of the sleeper touching it; a sleeping body adds the reaction to its own
@@ -23,8 +23,10 @@ may also press each other and the walls harder (statically indeterminate), and a
 frozen off balance (a load no two of its supports enclose: it leans on a body at its own
 height, or one still awake) hands its weight to the support that holds it up best, along
 that support's normal, and its sideways imbalance to nobody. A sleeper with no support
-asleep or fixed keeps its load until it has one, or wakes; one that touches nothing at all
-(frozen leaning on a body that has since moved away) wakes at the frame time and falls.
+asleep or fixed keeps its load until it has one (looked for again at every frame time: what
+holds it up may be awake and move away), or wakes; one with nothing under it any more (no
+floor or slope it touches, no body lower than itself: frozen leaning on a body that has since
+moved away, and left beside a neighbour at its own height) wakes at the frame time and falls.
 """
 import math
 
@@ -38,7 +40,7 @@ from ...geometry.segment import segment_contact
 from ...model.kinds import N_WALLS, PAIR, SUPPORT
 from ..eventlog import append, with_room
 from .bodies import advance, wake
-from .sleep import SLEEP_GAP, UPRIGHT, touches_a_body
+from .leaning import SLEEP_GAP, UPRIGHT, held_up
 from .support import log_impulses
 
 NONE = -1
@@ -210,7 +212,7 @@ def note_sleepers(log, bodies, grid, env, supports, particles, count, t):
 @njit(cache=True, error_model="numpy")
 def carry_sleepers(log, bodies, grid, env, supports, t, woken, count_woken):
     """At a frame time: every sleeper's weight since last carried joins its load, and the loads
-    go down the pile, highest sleeper first. A sleeper that touches nothing any more (it fell
+    go down the pile, highest sleeper first. A sleeper with nothing under it any more (it fell
     asleep leaning on a body that has since moved away) wakes, to fall: it is added to
     woken[count_woken:] for the caller to predict. Returns the log (with room made)
     and the new count of woken.
@@ -251,7 +253,7 @@ def carry_sleepers(log, bodies, grid, env, supports, t, woken, count_woken):
         i = order[k]
         loaded = supports.load[i, 0] != 0.0 or supports.load[i, 1] != 0.0   # (not: asleep from just now)
         a, ax, ay, b, bx, by = _choose(bodies, grid, env, supports, i)
-        if a == NONE and loaded and not touches_a_body(bodies, grid, i, t):   # touching nothing: it falls
+        if a == NONE and loaded and not held_up(bodies, grid, env, i, t):   # nothing under it: it falls
             advance(bodies, i, t)
             wake(bodies, env, i)
             supports.sleeping[i] = False
@@ -259,6 +261,8 @@ def carry_sleepers(log, bodies, grid, env, supports, t, woken, count_woken):
             woken[count_woken] = i
             count_woken += 1
             entered = True   # the set of sleepers changes: choose again next frame
+        elif a == NONE and loaded:
+            entered = True   # held up by awake bodies only: look again next frame, they may move away
         supports.plan[i, 0], supports.plan[i, 1] = a, b
         supports.normal[i, 0], supports.normal[i, 1], supports.normal[i, 2], supports.normal[i, 3] = ax, ay, bx, by
         _split(log, bodies, env, supports, i, t, a, ax, ay, b, bx, by)

@@ -20,17 +20,25 @@ event-driven granular codes do, a body that is held still is frozen ("asleep"):
   on either side of the vertical. This is tested right after each collision of a slow body and,
   for every body, at each frame time; a pile thus falls asleep from the floor up.
   Bodies that lean on each other (an arch, a row pressed together) would wait for one
-  another's sleep for ever, so at frame times a body that touches another one and has
-  been slow at every frame time for SLOW_SPEEDS × rest speed / |g| falls asleep too:
-  unsupported, gravity would have changed its speed by more than that meanwhile. A cradled
-  body hit twice at the same instant is jammed (wedged into a narrow cradle it cannot get out
-  of) and falls asleep whatever its speed. Only when e < 1: an elastic system has no rest to
-  come to.
+  another's sleep for ever, so at frame times a body that touches another one lower than
+  itself and has been slow at every frame time for SLOW_SPEEDS × rest speed / |g| falls
+  asleep too: unsupported, gravity would have changed its speed by more than that meanwhile.
+  A cradled body hit twice at the same instant is jammed (wedged into a narrow cradle it
+  cannot get out of) and falls asleep whatever its speed. Only when e < 1: an elastic system
+  has no rest to come to.
+* A contact that *gives way* delays sleep (yields): frictionless, a floor holds a body up but
+  not in place, so a body that an awake one leans on from above, off the vertical, is pushed
+  aside if nothing beside it holds it, and the leaning one comes down. Neither sleeps while
+  that lasts (the bottom balls of a pyramid slide apart under the top one, which ends on the
+  floor, as without sleeping), unless it has been slow for SLOW_SPEEDS_GIVING_WAY rest speeds'
+  worth of gravity: a jam that only rattles in place must still come to rest.
 * A sleeping body has no velocity, no acceleration and no events of its own; another body
   collides with it as with a fixed obstacle (resolve.py), so a settled pile costs nothing.
 * A body that hits a sleeping one faster than the sleeper's rest speed *wakes* it (the
   collision is then an ordinary one, between two free bodies), and with it every sleeping
-  body resting on it, and on those, upwards: nothing is left hanging in the air.
+  body resting on it, and on those, upwards: nothing is left hanging in the air. A sleeper
+  left with nothing under it (what held it up has moved away) wakes at the next frame time
+  and falls (carried.py).
 
 Falling asleep removes at most ½ m v_rest² of kinetic energy per body: with the suggested
 rest speed, a bounce of a thousandth of a radius.
@@ -42,15 +50,14 @@ speed, 60 s) has no frame over the budget, memory flat, overlaps ~1e-14 r, and c
 the discrete method at one substep never asleep per simulated second (9.0-9.6x the discrete
 method with its own sleeping, engine/islands.py). A sleeper's weight goes on to the
 walls through the pile under it (carried.py), so a sleeping pile presses the floor with all
-its weight. Known limit: piles freeze looser than hexagonal close packing, as random drops do in
+its weight. Known limits: piles freeze looser than hexagonal close packing, as random drops do in
 every engine. 200 balls dropped at random (seeds 1 to 4), 10 s, with the default TC model
-(resolve.py): mean heights +8.5 % (e = 0), +10.3 % (e = 0.5), +5.4 % (e = 0.9) above close
+(resolve.py): mean heights +8.8 % (e = 0), +8.7 % (e = 0.5), +5.8 % (e = 0.9) above close
 packing, against +7.4, +6.2 and +6.4 % for the pymunk comparison mirror's piles from the same
-drops (10 substeps) and +9.4, +9.2 and +6.2 % for the discrete method's. At e = 0.5 ccd's are
-3.9 % taller than the mirror's. The bottom row freezes with gaps,
-because a sleeper pushed aside slower than its rest speed stays a fixed obstacle (waking a
-sleeper on every push its supports cannot take was tried: it makes event storms, 10 million
-events in 8 s, and was not kept).
+drops (10 substeps) and +9.4, +9.2 and +6.2 % for the discrete method's. And about one drop in
+36 storms without end (README): a ball in a row on the floor, woken by a hard hit from the bodies
+still bouncing above it, rattles with its neighbours in zero gaps; the event budget ends each
+frame before those above have moved on, so they hit it again in the next.
 """
 import math
 
@@ -60,16 +67,17 @@ from ...geometry.segment import segment_contact
 from ...model.kinds import N_WALLS, PAIR, WALL
 from ...broadphase.cells import reach_block, segment_range
 from .bodies import REST_HEIGHT, advance, fall_asleep, position_at, rest_on, rests_on, velocity_at, wake
+from .leaning import SLEEP_GAP, UPRIGHT, leans_on_a_body, yields
 
-# A support this fraction of the radius away (or closer) counts as touching.
-SLEEP_GAP = 1e-3
 # The default rest speed: that of a bounce this fraction of the radius high.
 SLEEP_HEIGHT = 1e-3
 # A body slow at every frame time for as long as gravity takes to change a speed by this many
 # rest speeds is carried by what it touches, whether or not those sleep yet.
 SLOW_SPEEDS = 4.0
-# One support carries a body alone only if it is this close (radians) to straight under it.
-UPRIGHT = 1e-9
+# As long for a body in a contact that gives way (leaning.yields): what makes it slide starts
+# slowly (a pyramid's top ball comes down at about a seventh of g at first), but a jam that only
+# rattles in place must still come to rest.
+SLOW_SPEEDS_GIVING_WAY = 40.0
 
 
 def default_rest_speed(gravity, radii, restitution):
@@ -181,7 +189,7 @@ def doze(bodies, grid, env, contacts, particles, count, t):
     for k in range(count):
         i = particles[k]
         if not bodies.asleep[i] and env.rest_speed[i] > 0.0 and (bodies.last_hit[i] == t or slow(bodies, env, i, t)) \
-                and cradled(bodies, grid, env, i, t, True):
+                and cradled(bodies, grid, env, i, t, True) and not yields(bodies, grid, env, i, t):
             _sleep_on_what_it_hits(bodies, env, contacts, i)
 
 
@@ -200,38 +208,15 @@ def doze_all(bodies, grid, env, t, fell):
             bodies.slow_since[i] = math.inf
             continue
         bodies.slow_since[i] = min(bodies.slow_since[i], t)
-        carried = gravity > 0.0 and t - bodies.slow_since[i] >= SLOW_SPEEDS * env.rest_speed[i] / gravity
-        if (carried and touches_a_body(bodies, grid, i, t)) or cradled(bodies, grid, env, i, t, False):
+        slow_for = (t - bodies.slow_since[i]) * gravity / env.rest_speed[i]   # in rest speeds' worth of gravity
+        carried = slow_for >= SLOW_SPEEDS and leans_on_a_body(bodies, grid, env, i, t)
+        if (carried or cradled(bodies, grid, env, i, t, False)) and \
+                (slow_for >= SLOW_SPEEDS_GIVING_WAY or not yields(bodies, grid, env, i, t)):
             advance(bodies, i, t)
             fall_asleep(bodies, i)
             fell[count] = i
             count += 1
     return count
-
-
-@uncounted
-def touches_a_body(bodies, grid, i, t):
-    """Does particle i at time t touch another body (asleep or not, within SLEEP_GAP)?"""
-    x, y = position_at(bodies, i, t)
-    cx_lo, cx_hi, cy_lo, cy_hi = reach_block(grid, grid.cell[i], grid.reach[i])
-    for cy in range(cy_lo, cy_hi):
-        for cx in range(cx_lo, cx_hi):
-            j = grid.head[cy * grid.nx + cx]
-            while j >= 0:
-                if j != i and _touching(bodies, i, j, x, y, t):
-                    return True
-                j = grid.next[j]
-    for k in range(grid.apart.shape[0]):
-        if grid.apart[k] != i and _touching(bodies, i, grid.apart[k], x, y, t):
-            return True
-    return False
-
-
-@uncounted
-def _touching(bodies, i, j, x, y, t):
-    xj, yj = position_at(bodies, j, t)
-    gap = math.hypot(x - xj, y - yj) - bodies.radius[i] - bodies.radius[j]
-    return gap <= SLEEP_GAP * min(bodies.radius[i], bodies.radius[j])
 
 
 @uncounted
