@@ -46,8 +46,8 @@ rest speed, a bounce of a thousandth of a radius.
 Status: ON BY DEFAULT under gravity when e < 1 (default_rest_speed); rest_speed 0 turns it
 off; without gravity or with e = 1 the default is 0, so gases run byte for byte as before.
 Measured (benchmarks/ccd_settling.py): the settling particles_250 gas (e = 0.8, default rest
-speed, 60 s) has no frame over the budget, memory flat, overlaps ~1e-14 r, and costs 2.7-2.9x
-the discrete method at one substep never asleep per simulated second (9.0-9.6x the discrete
+speed, 60 s) has no frame over the budget, memory flat, overlaps ~1e-14 r, and costs 3.0-3.1x
+the discrete method at one substep never asleep per simulated second (about 14x the discrete
 method with its own sleeping, engine/islands.py). A sleeper's weight goes on to the
 walls through the pile under it (carried.py), so a sleeping pile presses the floor with all
 its weight. Known limits: piles freeze looser than hexagonal close packing, as random drops do in
