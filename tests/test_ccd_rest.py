@@ -282,7 +282,7 @@ def test_a_frictionless_pyramid_of_three_collapses_as_without_sleeping():
     it does with sleeping off (rest_speed 0: exact events only), in the discrete method and
     in pymunk. Sleeping must not freeze it: the bottom two once fell asleep at the first
     instant, before the top ball's weight reached them, and the pyramid stood for ever
-    (sleep.yields)."""
+    (leaning.yields)."""
     positions = [[4.5, 0.5], [5.5, 0.5], [5.0, 0.5 + math.sqrt(3) / 2]]
     world, traj = ccd(positions, restitution=0.3)
     exact = collisim.simulate(collisim.Scene(world=world, fps=60, seconds=3.0, method="ccd", rest_speed=0.0))

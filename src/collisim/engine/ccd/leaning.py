@@ -2,11 +2,12 @@
 
 Touching is to within SLEEP_GAP of the smaller radius: bodies at rest are never exactly in
 contact (each event leaves them an impact's rounding apart), so "touching" needs a tolerance.
-A body leans on what touches it from below: a floor or slope gravity presses it into, or a body
-whose centre is lower (held_up, leans_on_a_body). A neighbour at about its own height presses it
-sideways but carries none of its weight (LEANS). And a contact gives way when a body leans on
-another off the vertical and the lower one is free to slide aside (yields): frictionless, a
-floor holds a body up, not in place.
+What could hold a body up touches it from below: a floor or slope gravity presses it into, or a
+body whose centre is lower (held_up, leans_on_a_body); a neighbour at or above its own height
+cannot. And a contact gives way when a body leans on another from above, off the vertical but
+steeper than LEANS (a neighbour at about its own height presses sideways, it does not lean),
+and the lower one is free to slide aside (yields): frictionless, a floor holds a body up, not
+in place.
 """
 import math
 

@@ -26,7 +26,7 @@ event-driven granular codes do, a body that is held still is frozen ("asleep"):
   A cradled body hit twice at the same instant is jammed (wedged into a narrow cradle it
   cannot get out of) and falls asleep whatever its speed. Only when e < 1: an elastic system
   has no rest to come to.
-* A contact that *gives way* delays sleep (yields): frictionless, a floor holds a body up but
+* A contact that *gives way* delays sleep (leaning.yields): frictionless, a floor holds a body up but
   not in place, so a body that an awake one leans on from above, off the vertical, is pushed
   aside if nothing beside it holds it, and the leaning one comes down. Neither sleeps while
   that lasts (the bottom balls of a pyramid slide apart under the top one, which ends on the
