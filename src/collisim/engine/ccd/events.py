@@ -59,8 +59,9 @@ from ..eventlog import new_log, with_room
 from .bodies import FREE, Bodies, Environment, advance, position_at, velocity_at
 from .carried import carry_sleepers
 from .eventqueue import SLIDE_OFF, new_queue, reserve
-from .fallback import skip_to_frame
-from .frame_events import INVOLVED, NEED, NEED_LOG, NEED_QUEUE, OVER_BUDGET, STATE_SIZE, frame_events, reschedule
+from .fallback import freeze_storm, skip_to_frame, thaw
+from .frame_events import (INVOLVED, NEED, NEED_LOG, NEED_QUEUE, OVER_BUDGET, PROCESSED, STATE_SIZE, frame_events,
+                           reschedule)
 from .resolve import default_tc, new_contacts
 from .sleep import default_rest_speed, doze_all
 from .support import log_frame_supports, new_supports
@@ -187,10 +188,12 @@ def _run(loop, resting, frame_dt, first, count, budget, positions, velocities, c
         may_sleep = may_sleep or env.rest_speed[body] > 0.0
     log = new_log(1024)
     state, clock = np.zeros(STATE_SIZE, np.int64), np.zeros(2)
+    storm_bodies, rest_speeds = np.empty(n, np.int64), np.empty(n)   # fallback.freeze_storm's
     for row in range(count):
         t_frame = (first + row) * frame_dt
         state[:] = 0
         clock[:] = 0.0
+        frozen = 0
         while True:   # frame_events stops to let the log or the queue grow (it cannot allocate)
             status = frame_events(bodies, grid, env, queue, contacts, log, done, listed, involved, base, t_end,
                                   supports, tally, resting, may_sleep, t_frame, budget, counts[row], state, clock)
@@ -199,10 +202,20 @@ def _run(loop, resting, frame_dt, first, count, budget, positions, velocities, c
             elif status == NEED_QUEUE:
                 queue = reserve(queue, n + state[INVOLVED], bodies.counter, base)
             else:
+                if resting is not None:
+                    if status == OVER_BUDGET and frozen == 0 and may_sleep:
+                        # once a frame: freeze the storm, and let the rest of the frame go on without it
+                        frozen = freeze_storm(bodies, grid, env, clock[1], storm_bodies, rest_speeds)
+                        if frozen > 0:
+                            queue = reschedule_growing(bodies, grid, env, queue, storm_bodies, frozen, clock[1], t_end,
+                                                       base, done)
+                            state[PROCESSED] = 0
+                            continue
                 break
-        over_budget[row] = status == OVER_BUDGET
+        over_budget[row] = status == OVER_BUDGET or frozen > 0
         t_last = clock[1]
         if resting is not None:
+            thaw(env, storm_bodies, frozen, rest_speeds)
             log = log_frame_supports(log, bodies, env, supports, t_frame)
         if over_budget[row]:
             skip_to_frame(bodies, env, t_last, t_frame)

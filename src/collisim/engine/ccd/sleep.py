@@ -52,12 +52,12 @@ method with its own sleeping, engine/islands.py). A sleeper's weight goes on to 
 walls through the pile under it (carried.py), so a sleeping pile presses the floor with all
 its weight. Known limits: piles freeze looser than hexagonal close packing, as random drops do in
 every engine. 200 balls dropped at random (seeds 1 to 4), 10 s, with the default TC model
-(resolve.py): mean heights +8.8 % (e = 0), +8.7 % (e = 0.5), +5.8 % (e = 0.9) above close
+(resolve.py): mean heights +8.8 % (e = 0), +8.9 % (e = 0.5), +5.1 % (e = 0.9) above close
 packing, against +7.4, +6.2 and +6.4 % for the pymunk comparison mirror's piles from the same
-drops (10 substeps) and +9.4, +9.2 and +6.2 % for the discrete method's. And about one drop in
-36 storms without end (README): a ball in a row on the floor, woken by a hard hit from the bodies
-still bouncing above it, rattles with its neighbours in zero gaps; the event budget ends each
-frame before those above have moved on, so they hit it again in the next.
+drops (10 substeps) and +9.4, +9.2 and +6.2 % for the discrete method's. A ball in a row on the
+floor, woken by a hard hit from the bodies still bouncing above it, can rattle with its
+neighbours in zero gaps until the event budget runs out; the budget's fallback then freezes the
+storm and lets the rest of the frame go on (fallback.py), so that those above settle.
 """
 import math
 
