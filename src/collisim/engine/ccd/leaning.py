@@ -78,6 +78,7 @@ def _below(bodies, env, i, j, x, y, t):
 
 @uncounted
 def touching(bodies, i, j, x, y, t):
+    """Does body j touch particle i (at x, y) at time t, to within SLEEP_GAP of the smaller radius?"""
     xj, yj = position_at(bodies, j, t)
     gap = math.hypot(x - xj, y - yj) - bodies.radius[i] - bodies.radius[j]
     return gap <= SLEEP_GAP * min(bodies.radius[i], bodies.radius[j])
