@@ -44,6 +44,13 @@ FALLBACK_NOTE = ("with e < 1 and sleeping on, the bodies caught in the storm and
 
 
 @uncounted
+def caught_in_storm(bodies, env, i, t_last):
+    """Was body i caught in the storm that ran a frame over its budget: did it collide at the
+    last event processed, t_last, where it may fall asleep (e < 1, sleeping on)?"""
+    return env.restitution < 1.0 and env.rest_speed[i] > 0.0 and bodies.last_hit[i] == t_last
+
+
+@uncounted
 def skip_to_frame(bodies, env, t_last, t_frame):
     """Freeze every particle at its state at t_last (no event is pending before it) and
     make that its state at t_frame. With e < 1 and sleeping on, the bodies that collided at
@@ -52,7 +59,7 @@ def skip_to_frame(bodies, env, t_last, t_frame):
     for i in range(bodies.radius.shape[0]):
         advance(bodies, i, t_last)
         bodies.t_ref[i] = t_frame
-        if env.restitution < 1.0 and env.rest_speed[i] > 0.0 and bodies.last_hit[i] == t_last:
+        if caught_in_storm(bodies, env, i, t_last):
             fall_asleep(bodies, i)
 
 
@@ -67,10 +74,8 @@ def freeze_storm(bodies, grid, env, t_last, frozen, rest_speeds):
     after frame, so that they never settle. Fills frozen with the bodies (the caller predicts
     them again) and returns their number."""
     count = 0
-    if env.restitution >= 1.0:
-        return 0
     for i in range(bodies.radius.shape[0]):
-        if bodies.last_hit[i] == t_last and not bodies.asleep[i] and env.rest_speed[i] > 0.0:
+        if caught_in_storm(bodies, env, i, t_last) and not bodies.asleep[i]:
             count = _freeze(bodies, env, i, t_last, frozen, count, rest_speeds)
     caught = count
     for k in range(caught):

@@ -73,13 +73,12 @@ def leans_on_a_body(bodies, grid, env, i, t):
 def _below(bodies, env, i, j, x, y, t):
     """Does body j touch i (at x, y) with its centre lower than i's?"""
     xj, yj = position_at(bodies, j, t)
-    return touching(bodies, i, j, x, y, t) and (xj - x) * env.gravity[0] + (yj - y) * env.gravity[1] > 0.0
+    return touching(bodies, i, j, x, y, xj, yj) and (xj - x) * env.gravity[0] + (yj - y) * env.gravity[1] > 0.0
 
 
 @uncounted
-def touching(bodies, i, j, x, y, t):
-    """Does body j touch particle i (at x, y) at time t, to within SLEEP_GAP of the smaller radius?"""
-    xj, yj = position_at(bodies, j, t)
+def touching(bodies, i, j, x, y, xj, yj):
+    """Does body j (at xj, yj) touch particle i (at x, y), to within SLEEP_GAP of the smaller radius?"""
     gap = math.hypot(x - xj, y - yj) - bodies.radius[i] - bodies.radius[j]
     return gap <= SLEEP_GAP * min(bodies.radius[i], bodies.radius[j])
 
@@ -95,29 +94,29 @@ def yields(bodies, grid, env, i, t):
     one is held (free_towards), they may."""
     gravity = math.hypot(env.gravity[0], env.gravity[1])
     ux, uy = -env.gravity[0] / gravity, -env.gravity[1] / gravity
+    x, y = position_at(bodies, i, t)
     cx_lo, cx_hi, cy_lo, cy_hi = reach_block(grid, grid.cell[i], grid.reach[i])
     for cy in range(cy_lo, cy_hi):
         for cx in range(cx_lo, cx_hi):
             j = grid.head[cy * grid.nx + cx]
             while j >= 0:
-                if j != i and not bodies.asleep[j] and _gives_way(bodies, grid, env, i, j, t, ux, uy):
+                if j != i and not bodies.asleep[j] and _gives_way(bodies, grid, env, i, j, x, y, t, ux, uy):
                     return True
                 j = grid.next[j]
     for k in range(grid.apart.shape[0]):
         j = grid.apart[k]
-        if j != i and not bodies.asleep[j] and _gives_way(bodies, grid, env, i, j, t, ux, uy):
+        if j != i and not bodies.asleep[j] and _gives_way(bodies, grid, env, i, j, x, y, t, ux, uy):
             return True
     return False
 
 
 @uncounted
-def _gives_way(bodies, grid, env, i, j, t, ux, uy):
-    """Do awake bodies i and j touch, the upper one leaning on the lower off the vertical (up:
-    ux, uy), towards a side where the lower one is free to go?"""
-    x, y = position_at(bodies, i, t)
-    if not touching(bodies, i, j, x, y, t):
-        return False
+def _gives_way(bodies, grid, env, i, j, x, y, t, ux, uy):
+    """Do awake bodies i (at x, y) and j touch, the upper one leaning on the lower off the
+    vertical (up: ux, uy), towards a side where the lower one is free to go?"""
     xj, yj = position_at(bodies, j, t)
+    if not touching(bodies, i, j, x, y, xj, yj):
+        return False
     dx, dy = x - xj, y - yj
     if dx * ux + dy * uy > 0.0:   # i above: it pushes j along -d
         lower, px, py, dx, dy = j, xj, yj, -dx, -dy
@@ -163,4 +162,4 @@ def free_towards(bodies, grid, env, i, x, y, dx, dy, t):
 def _in_the_way(bodies, i, j, x, y, dx, dy, t):
     """Does body j touch i (at x, y) on the side of (dx, dy)?"""
     xj, yj = position_at(bodies, j, t)
-    return touching(bodies, i, j, x, y, t) and (xj - x) * dx + (yj - y) * dy > 0.0
+    return touching(bodies, i, j, x, y, xj, yj) and (xj - x) * dx + (yj - y) * dy > 0.0
