@@ -141,3 +141,54 @@ def test_the_package_digest_sees_every_source_and_nothing_else(tmp_path):
     (tmp_path / "sub" / "b.py").write_text("y = 3\n")
     assert package_digest(str(tmp_path)) != first
     package_digest.cache_clear()
+
+
+def test_two_processes_saving_one_kernel_for_two_types_at_once_never_mix_their_entries(tmp_path):
+    """The interleaving numba's numbered data files lose: A takes number 1 and writes its index;
+    B, which read the index before that, takes number 1 too and writes index and code; then A
+    writes its code over B's, under B's index entry. Replayed here in one process: B's whole
+    save runs inside A's, where A writes its code, and B reads the index A had not yet written.
+    Every entry the index ends with must load its own kernel's code."""
+    from numba import types
+    from numba.core.caching import IndexDataCacheFile
+
+    from collisim.compiling import PACKAGE, package_digest
+
+    stamp = ((1.0, 100), package_digest(PACKAGE))   # a collisim kernel's stamp (stamp_with_package)
+    machine = ("x86_64-unknown-linux-gnu", "cpu", "")
+    key_a, key_b = ((types.float64,), machine, ("code", "")), ((types.int64,), machine, ("code", ""))
+    a, b = (IndexDataCacheFile(str(tmp_path), "module.kernel-10.py311", stamp) for _ in range(2))
+    b._load_index = lambda: {}   # B read the index before A wrote it
+    write_a = a._save_data
+
+    def a_writes_after_b(name, data):
+        b.save(key_b, "code for int64")
+        write_a(name, data)
+
+    a._save_data = a_writes_after_b
+    a.save(key_a, "code for float64")
+    reader = IndexDataCacheFile(str(tmp_path), "module.kernel-10.py311", stamp)
+    index = reader._load_index()
+    assert index, "the index lost both entries"
+    expected = {key_a: "code for float64", key_b: "code for int64"}
+    for key in index:
+        assert reader.load(key) == expected[key]
+
+
+def test_cache_entry_names_are_the_same_in_every_process():
+    """A kernel's entry is named by its key as text: the same argument types give the same file
+    in any process, however many types it made before (a named tuple's type is numbered by
+    each process in the order it meets it)."""
+    probe = textwrap.dedent("""
+        import sys, numpy as np
+        from numba import typeof, types
+        from collisim.compiling import _described
+        from collisim.engine.discrete import Bodies
+        if sys.argv[1] == "other first":
+            typeof((np.zeros(3), 1.0, np.zeros((2, 2), np.int64)))
+        print(_described(((typeof(Bodies(*[np.zeros(3)] * 11)), types.float64), ("machine",), ("code", ""))))
+        """)
+    names = {subprocess.run([sys.executable, "-c", probe, order], capture_output=True, text=True,
+                            check=True).stdout for order in ("plain", "other first")}
+    assert len(names) == 1
+    assert "collisim.engine.discrete.Bodies" in names.pop()

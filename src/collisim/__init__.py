@@ -3,10 +3,11 @@
     scene file -> Scene -> World (bodies, statics) -> engine (discrete or ccd) -> Trajectory
                -> player (raster, overlays) -> writer (PyAV) -> renders/<scene>.mp4
 """
-from .compiling import plain_constants, stamp_with_package
+from .compiling import name_entries_by_key, plain_constants, stamp_with_package
 
 plain_constants()      # before any kernel is typed: one compile per argument types (compiling.py)
 stamp_with_package()   # before any kernel is cached: a change to any source compiles them again
+name_entries_by_key()  # and processes compiling at once never mix up each other's entries
 
 from .engine import simulate, stream  # noqa: E402
 from .model import Events, Panel, RenderSettings, Scene, Trajectory, World, load_trajectory

@@ -28,6 +28,9 @@ yet a kernel carries the compiled code of every kernel it calls, from other file
 edit to response/statics.py (or a `git pull` into an editable install) run_frames kept loading
 the old wall response from its cache. So every collisim kernel's cache stamp also holds a
 digest of all the package's sources: a change anywhere compiles the kernels again, once.
+
+`name_entries_by_key`: processes that compile at once (two renders on a fresh install, the test
+suite's workers) never leave a cache index pointing at code compiled for other argument types.
 """
 import functools
 import hashlib
@@ -104,6 +107,58 @@ def stamp_with_package() -> None:
     impl._locator_classes = [stamped(locator) if issubclass(locator, caching._SourceFileBackedLocatorMixin)
                              else locator for locator in impl._locator_classes]
     impl.collisim_stamped = True
+
+
+def _stamped(source_stamp) -> bool:
+    """Is this a cache stamp of a collisim kernel (stamp_with_package's)?"""
+    return (isinstance(source_stamp, tuple) and len(source_stamp) == 2
+            and source_stamp[1] == package_digest(PACKAGE))
+
+
+def _described(key) -> str:
+    """A cache key as text that is the same in every process: numba types by class and name,
+    and a named tuple's by its class's full name too (their pickles hold a number each process
+    assigns in its own order)."""
+    if isinstance(key, types.Type):
+        named = getattr(key, "instance_class", None)
+        where = f"{named.__module__}.{named.__qualname__}:" if named is not None else ""
+        return f"{type(key).__name__}<{where}{key}>"
+    if isinstance(key, tuple):
+        return "(" + ", ".join(_described(part) for part in key) + ")"
+    return repr(key)
+
+
+def name_entries_by_key() -> None:
+    """Name the data file of each cached overload of a collisim kernel after its key (the
+    argument types, the machine, the bytecode), and write it before the index that points at it
+    (idempotent; other code's caches are left as numba keeps them).
+
+    Why: numba numbers a function's data files in the order its overloads are saved, and writes
+    the index first. Two processes compiling one kernel for two argument types at once can both
+    take number 1; the index the one writes may then point at the code the other compiled, and
+    a later run would load code compiled for other types. A name drawn from the key is never
+    another key's. The index is still written whole by whichever process writes it last, so
+    the other's entry may be lost: its kernel then compiles again on a later run, correctly."""
+    from numba.core import caching
+
+    files = caching.IndexDataCacheFile
+    if getattr(files, "collisim_keyed", False):
+        return
+    numbered = files.save
+
+    def save(self, key, data):
+        if not _stamped(self._source_stamp):
+            return numbered(self, key, data)
+        digest = hashlib.sha256(_described(key).encode()).hexdigest()[:20]
+        name = self._data_name_pattern.replace("{number:d}", digest)
+        self._save_data(name, data)
+        overloads = self._load_index()
+        if overloads.get(key) != name:
+            overloads[key] = name
+            self._save_index(overloads)
+
+    files.save = save
+    files.collisim_keyed = True
 
 
 @register_pass(mutates_CFG=False, analysis_only=True)
