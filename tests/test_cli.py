@@ -75,6 +75,19 @@ BAD_SCENES = {
 }
 
 
+def test_a_scene_that_overflows_gives_one_line_and_no_file(cli, tmp_path):
+    path = scene_file(tmp_path, "return collisim.Scene(world=collisim.World(positions=[[5, 5]], gravity=(0, 1e300)),"
+                                " seconds=0.5, method='discrete')")
+    out = tmp_path / "out" / "video.mp4"
+    result = cli("render", path, "--out", out)
+    assert result.returncode == 2
+    lines = [line for line in result.stderr.strip().splitlines() if "compiling the simulation kernels" not in line]
+    assert lines == ["collisim: error: scene 'bad_scene': the discrete method overflowed at frame 1 (t = 0.01667 s): "
+                     "a body's position or velocity is no longer a finite number; the scene's speeds, accelerations "
+                     "or sizes are too large for double precision"], result.stderr
+    assert not out.exists() and not list(tmp_path.rglob("*.mp4*"))
+
+
 @pytest.mark.parametrize("case", sorted(BAD_SCENES))
 def test_bad_scene_gives_one_line_and_no_file(cli, tmp_path, case):
     body, message = BAD_SCENES[case]

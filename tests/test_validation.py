@@ -89,3 +89,34 @@ def test_gravity_is_one_vector(gravity, words):
     with pytest.raises(ValueError, match=re.escape(words)):
         collisim.World([[1, 1], [3, 3]], gravity=gravity)
     assert collisim.World([[1, 1], [3, 3]], gravity=(0, -9.81)).accelerations.tolist() == [[0, -9.81]] * 2
+
+
+def test_a_state_that_overflows_is_refused_at_its_first_frame_whatever_the_block_size():
+    """A gravity whose speeds square to more than double precision holds: the discrete step's
+    arithmetic gave inf, then NaN, within the first frame, and the frames went on as NaN."""
+    world = collisim.World(positions=[[5, 5], [2, 2]], velocities=[[1, 0], [0, 0]], radii=0.5, gravity=(0, 1e300))
+    scene = collisim.Scene(world=world, fps=30, seconds=1.0, method="discrete")
+    for block in (1, 2, 3, 64):   # block 1: the first block is the t = 0 sample alone
+        with pytest.raises(ValueError, match=r"the discrete method overflowed at frame 1 \(t = 0.03333 s\)") as error:
+            for _ in collisim.stream(scene, block=block):
+                pass
+        assert "\n" not in str(error.value)
+    with pytest.raises(ValueError, match="overflowed at frame 1"):
+        collisim.simulate(scene)
+
+
+@pytest.mark.parametrize("field", ["positions", "velocities", "angles", "angular_velocities"])
+def test_the_frame_named_is_the_first_not_finite_counted_from_the_block_start(field):
+    import importlib
+    simulating = importlib.import_module("collisim.engine.simulate")   # the module, not the function
+    from collisim.engine.discrete import new_frames
+
+    scene = collisim.Scene(world=collisim.World(positions=[[5, 5], [2, 2]], radii=0.5), fps=30, seconds=1.0)
+    frames = new_frames(6, 2)
+    for name in ("positions", "velocities", "angles", "angular_velocities"):
+        getattr(frames, name)[:] = 1.0
+    simulating.require_finite(frames, 10, scene)     # all finite: nothing said
+    getattr(frames, field)[3:, 1] = np.inf           # from the block's fourth frame on
+    getattr(frames, field)[5, 0] = np.nan
+    with pytest.raises(ValueError, match=r"overflowed at frame 13 \(t = 0.4333 s\)"):
+        simulating.require_finite(frames, 10, scene)

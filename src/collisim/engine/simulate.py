@@ -95,6 +95,7 @@ def stream(scene: Scene, block: int | None = None, progress=None, stepper=None, 
             frames, events = _first_block(world, stepper, count)
         else:
             frames, events = stepper.run(count, into(first, count) if into is not None else None)
+        require_finite(frames, first, scene)
         if progress is not None:
             progress(count - (first == 0))
         yield Trajectory(
@@ -106,6 +107,25 @@ def stream(scene: Scene, block: int | None = None, progress=None, stepper=None, 
             events=events, method=scene.method, broadphase=stepper.broadphase, substeps=scene.substeps,
             profile=stepper.profile.seconds, warnings=stepper.warnings)
         first += count
+
+
+def require_finite(frames: Frames, first: int, scene: Scene) -> None:
+    """Refuse a block of frames (the first at sample `first`) in which a body's state is no
+    longer a finite number, naming the first such frame: speeds, accelerations or sizes so
+    large that the arithmetic overflows (a gravity of 1e300 made NaN within a frame). A state
+    that is not finite stays so (NaN and inf survive every step, and such a body never sleeps),
+    so the block's last frame tells, at the cost of n values rather than of the block."""
+    state = [frames.positions, frames.velocities, frames.angles, frames.angular_velocities]
+    if all(np.isfinite(array[-1]).all() for array in state if array.shape[0]):
+        return
+    finite = np.ones(len(frames.positions), np.bool_)
+    for array in state:
+        if array.shape[0]:
+            finite &= np.isfinite(array.reshape(len(array), -1)).all(axis=1)
+    frame = first + int(np.argmin(finite))
+    raise ValueError(f"scene '{scene.name}': the {scene.method} method overflowed at frame {frame} "
+                     f"(t = {frame / scene.fps:.4g} s): a body's position or velocity is no longer a finite "
+                     f"number; the scene's speeds, accelerations or sizes are too large for double precision")
 
 
 def _initial(world) -> Frames:
