@@ -295,6 +295,11 @@ def test_size_and_frame_limits_and_no_limits(tmp_path):
     assert one_error_line(result) and "larger than 7680x4320" in result.stderr and "--no-limits" in result.stderr
     result = render("--seconds", "1700", "--out", tmp_path / "long.mp4")        # 102 000 frames at 60 fps
     assert one_error_line(result) and "102000 frames, more than 100000" in result.stderr
+    result = render("--physics-fps", "1e12", "--out", tmp_path / "fine.mp4")     # ran for ever
+    assert one_error_line(result) and ("would take 8000000000000 simulation steps (8000000000000 frames at 1e+12 "
+                                       "fps), more than 10000000; use --no-limits") in result.stderr, result.stderr
+    result = render("--substeps", "100000", "--out", tmp_path / "fine.mp4")
+    assert one_error_line(result) and "48000000 simulation steps (480 frames at 60 fps of 100000 substeps)" in result.stderr
     assert everything_in(tmp_path) == []
     result = render("--size", "7700x64", "--seconds", "0.05", "--no-limits", "--no-progress",
                     "--out", tmp_path / "wide.mp4")

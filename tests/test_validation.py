@@ -120,3 +120,17 @@ def test_the_frame_named_is_the_first_not_finite_counted_from_the_block_start(fi
     getattr(frames, field)[5, 0] = np.nan
     with pytest.raises(ValueError, match=r"overflowed at frame 13 \(t = 0.4333 s\)"):
         simulating.require_finite(frames, 10, scene)
+
+
+def test_a_panel_or_chapter_of_too_many_steps_is_refused_before_anything_runs():
+    from collisim.pipeline import plan
+
+    world = collisim.World(positions=[[5, 5]], radii=0.5)
+    fine = collisim.Scene(world=world, fps=60, seconds=2.0, substeps=4)
+    endless = collisim.Scene(world=world, fps=1e9, seconds=2.0, name="endless")
+    plan(collisim.Scene(panels=[collisim.Panel(fine), collisim.Panel(fine)], fps=60, seconds=2.0))
+    for scene in (collisim.Scene(panels=[collisim.Panel(fine), collisim.Panel(endless)], fps=60, seconds=2.0),
+                  collisim.Scene(chapters=[fine, endless], fps=60, seconds=4.0)):
+        with pytest.raises(ValueError, match=r"scene 'endless' would take 2000000000 simulation steps"):
+            plan(scene)
+        plan(scene, limits=False)   # planned, not run

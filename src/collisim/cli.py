@@ -80,7 +80,8 @@ def add_render_options(render) -> None:
     render.add_argument("-s", "--last-frame", action="store_true", help="write the last frame as PNG")
     render.add_argument("--png", type=int, metavar="FRAME", help="write frame FRAME as PNG instead of a video")
     render.add_argument("--no-limits", action="store_true",
-                        help="allow frames over 7680x4320 and videos over 100000 frames")
+                        help="allow frames over 7680x4320, videos over 100000 frames and "
+                             "simulations over 10000000 steps")
     render.add_argument("--method", choices=tuple(METHODS))
     render.add_argument("--substeps", type=int, help="discrete steps per frame")
     render.add_argument("--broadphase", choices=("auto",) + BROAD_PHASES, help="broad phase")

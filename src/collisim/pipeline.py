@@ -27,7 +27,7 @@ from .io.writers import check_writable, remove_empty_folders, writer_for
 from .model.scene import RenderSettings, Scene
 from .model.trajectory import Trajectory
 from .render.player import Chapter, PanelSource
-from .render.video import check_limits, make_theme, output_size, play, video_fps
+from .render.video import check_limits, check_steps, make_theme, output_size, play, video_fps
 
 
 GIF_MAX_FPS = 50   # GIF delays are whole hundredths of a second; browsers stretch those under 2
@@ -92,8 +92,11 @@ def plan(source, size=None, *, fps=None, quality=None, settings: RenderSettings 
 
     size: (width, height), else the quality's height at the scene's aspect ratio, else the
     scene's size; fps: the video's frame rate, else the quality's (l 15, m 30, h 60, k 60), else
-    the scene's. `limits` refuses frames over 7680x4320 and videos over 100 000 frames."""
+    the scene's. `limits` refuses frames over 7680x4320, videos over 100 000 frames and scenes
+    of more than 10 000 000 simulation steps."""
     if isinstance(source, Scene):
+        if limits:
+            check_steps(source)
         base, own_fps, name = source.render.size, source.fps, name or source.name
         rate = video_fps(own_fps, fps, quality)
         chapters, frames = scene_chapters(source, rate), video_frames(video_seconds(source), rate)

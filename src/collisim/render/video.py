@@ -35,6 +35,7 @@ QUALITIES = {"l": Quality("480p15", 480, 15), "m": Quality("720p30", 720, 30),
 MIN_SIZE = 64
 MAX_SIZE = (7680, 4320)   # 8K UHD: the longer side, the shorter side
 MAX_FRAMES = 100_000      # about 28 minutes at 60 fps
+MAX_STEPS = 10_000_000    # simulation steps of one scene (a 100 000-frame video at 4 x 60 fps, 25 substeps)
 
 
 def _check_quality(quality) -> None:
@@ -78,6 +79,22 @@ def check_limits(size: tuple, frames: int) -> None:
     if frames > MAX_FRAMES:
         raise ValueError(f"the video would have {frames} frames, more than {MAX_FRAMES}; "
                          f"use --no-limits to render it anyway")
+
+
+def check_steps(scene) -> None:
+    """ValueError for a scene, or a panel or chapter of it, whose simulation would take more
+    than MAX_STEPS steps (frames times discrete substeps): a physics frame rate or substep
+    count with digits too many (--physics-fps 1e12 ran for ever) rather than a demo."""
+    if scene.world is None:
+        for part in [panel.scene for panel in scene.panels] + list(scene.chapters):
+            check_steps(part)
+        return
+    substeps = scene.substeps if scene.method == "discrete" else 1
+    steps = scene.frames * substeps
+    if steps > MAX_STEPS:
+        per_frame = f" of {substeps} substeps" if substeps > 1 else ""
+        raise ValueError(f"scene '{scene.name}' would take {steps} simulation steps ({scene.frames} frames at "
+                         f"{scene.fps:g} fps{per_frame}), more than {MAX_STEPS}; use --no-limits to run it anyway")
 
 
 THEMES = palette.THEMES
