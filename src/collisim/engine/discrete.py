@@ -43,7 +43,8 @@ from .islands import new_sleep
 from .integrate import integrate
 from .profile import Profile, cycles
 from .sleep_paths import carry, doze, keep_touching, remember_sleepers, still, wake
-from .statics_paths import keep_start, settle_in_map, statics_phase, statics_scratch
+from .statics_paths import (HELD_BY_SEGMENT, circle_segment_rows, keep_start, settle_in_map, statics_phase,
+                            statics_scratch)
 
 INTEGRATE, BROAD, NARROW, RESPONSE, STATICS, SETTLE, SLEEP, RECORD, TOTAL = range(9)
 ITERATIONS = 20   # sweeps of the contact solver per step (response/solver.py)
@@ -175,6 +176,7 @@ def _contact_phases(bodies, statics, broad, sleep, dt, margin, lo, hi, vertices,
                        sleep.asleep)
     if near > 0:
         k = segment_manifolds(b, vertices, margin, statics.segments, found, k, statics.volumes, sleep.asleep)
+    found, k = circle_segment_rows(b, statics, margin, in_pair, found, k, sleep.asleep)
     if rows.i.shape[0] < 2 * k:   # up to two points a manifold
         rows = new_rows(3 * k)
     count = rows_from(found, k, b, rows)
@@ -318,11 +320,12 @@ def _move_by_contacts(bodies, i, push, push_turn, shift, shift_turn, dt):
 
 @njit(cache=True)
 def _mark_held(rows, count, held):
-    """held (n, 2): the axes on which a wall row held each body this step."""
+    """held (n, 3): the axes on which a wall row held each body this step, and whether a
+    segment's row held it (HELD_BY_SEGMENT)."""
     held[:] = False
     for r in range(count):
-        if rows.j[r] < 0 and rows.wall[r] < N_WALLS and rows.impulse[r] > 0.0:
-            held[rows.i[r], rows.wall[r] // 2] = True
+        if rows.j[r] < 0 and rows.impulse[r] > 0.0:
+            held[rows.i[r], rows.wall[r] // 2 if rows.wall[r] < N_WALLS else HELD_BY_SEGMENT] = True
 
 
 def new_frames(count: int, n: int, turning: bool = True, into=None) -> Frames:

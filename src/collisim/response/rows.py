@@ -6,13 +6,16 @@ Rows are made from the state at the *start* of the step, before anything moves:
   speculative margins, `margins`): a pair still apart gives *speculative* rows, which only act
   if the step would close the gap past zero (so an impact stops the bodies where they meet
   instead of sinking one into the other, and a ball resting on a ball is held by it);
-* a polygon and a segment within its margin (segment_manifolds; circles meet segments in the
-  statics phase, response/statics.py);
+* a polygon and a segment within its margin (segment_manifolds);
 * a body and a box wall: a polygon within its margin of the wall always; a circle when it is
   within its margin and either meets the wall slower than the rest speed (it rests there) or
   touches another body this step (a pile must be held by the floor in the same solve as by its
   neighbours). A lone circle's fast impact is left to the wall bounce (response/statics.py),
-  which reflects the overshoot exactly.
+  which reflects the overshoot exactly;
+* a circle and a segment by the same rule as a circle and a wall (circle_segment_manifolds).
+  Left to the segment bounce alone, a pile on a segment sank into itself: each step the bounce
+  put the bottom circles back on the segment, into the circles the solver had just pushed
+  them away from (two circles of a pile coincided within seconds).
 
 The contact phases first collect the *manifolds* of these contacts (narrowphase/manifold.py),
 one record each in a scratch array (`new_found`: who meets whom, how far a point may be and
@@ -37,6 +40,7 @@ from ..geometry.vector import length
 from ..model.kinds import CIRCLE, N_WALLS
 from ..narrowphase.circles import circles_touch
 from ..narrowphase.manifold import body_pair_manifold, body_segment_manifold, body_wall_manifold
+from ..narrowphase.statics import circle_segment
 
 SLOP = 0.005   # of the smaller radius: an overlap the solver tolerates between bodies (solver.py)
 MARGIN = 0.01  # of the radius: every body's smallest speculative margin (a resting pile that falls
@@ -210,6 +214,28 @@ def wall_manifolds(bodies, vertices, margin, box, rest_speed, in_pair, found, k,
             reach = radii[i] + 0.5 * gap   # midway between the circle and the wall
             m = (nx, ny, 1, -gap, positions[i, 0] + reach * nx, positions[i, 1] + reach * ny, 0.0, 0.0, 0.0)
             k = _record(found, k, i, -1, wall, margin[i], 0.0, m)
+    return k
+
+
+@njit(cache=True)
+def circle_segment_manifolds(bodies, margin, segments, near, count, i, rest_speed, in_pair, found, k):
+    """Record after found[:k] the manifolds of circle i with the segments near[:count] it is held
+    by, by the rule of a circle and a wall (wall_manifolds): within its margin, and either
+    meeting the segment slower than the rest speed or in a pair's manifold this step; a lone
+    fast impact is left to the segment bounce (response/statics.py). j = -1, wall = N_WALLS +
+    the segment's number. Returns the new record count (the caller makes the room)."""
+    positions, velocities, radii = bodies.positions, bodies.velocities, bodies.radii
+    for c in range(count):
+        s = near[c]
+        nx, ny, depth, _, _ = circle_segment(positions, radii, i, segments, s)   # n: segment -> centre
+        gap = -depth
+        if gap >= margin[i]:
+            continue
+        if -(velocities[i, 0] * nx + velocities[i, 1] * ny) > rest_speed and not in_pair[i]:
+            continue   # a lone fast impact: the exact segment bounce takes it
+        reach = radii[i] + 0.5 * gap   # midway between the circle and the segment
+        m = (-nx, -ny, 1, -gap, positions[i, 0] - reach * nx, positions[i, 1] - reach * ny, 0.0, 0.0, 0.0)
+        k = _record(found, k, i, -1, N_WALLS + s, margin[i], 0.0, m)
     return k
 
 

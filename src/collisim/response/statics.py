@@ -16,7 +16,8 @@ robust:
 
 Segments: only if the body moves towards the segment (v·n < 0), the normal velocity is
 reflected with restitution, v_n -> -e v_n, and the body is put at exactly its radius from the
-segment along n. This is a check at step times only: a body that moves more than its
+segment along n. A body the contact solver held against a segment this step (resting there,
+or in a pile: response/rows.py) is only put back on it. This is a check at step times only: a body that moves more than its
 diameter in one step can jump over a segment (tunnelling); method `ccd` cannot.
 """
 import math
@@ -127,3 +128,12 @@ def bounce_off_segment(positions, velocities, radii, masses, segments, i, s, res
     velocities[i, 1] -= (1.0 + restitution) * vn * ny
     positions[i, 0], positions[i, 1] = qx + radii[i] * nx, qy + radii[i] * ny
     return masses[i] * (1.0 + restitution) * -vn, qx, qy
+
+
+@njit(cache=True, error_model="numpy")
+def put_on_segment(positions, radii, segments, i, s):
+    """Put body i, which the contact solver held against segment s this step, back at exactly
+    its radius from it where rounding left it inside (positions only: no bounce)."""
+    nx, ny, depth, qx, qy = circle_segment(positions, radii, i, segments, s)
+    if depth > 0.0:
+        positions[i, 0], positions[i, 1] = qx + radii[i] * nx, qy + radii[i] * ny
