@@ -6,6 +6,7 @@ KeyboardInterrupt raised there by a signal handler is lost: the process dies of 
 Python reports a SystemError (seen as a flaky render test under load). collisim.interrupts
 raises the interrupt only once ordinary code runs again.
 """
+import signal
 import subprocess
 import sys
 import textwrap
@@ -40,8 +41,17 @@ COMPILED_CALLS = textwrap.dedent("""
 """)
 
 
+def _as_a_fresh_process():
+    """The child's SIGINT as a shell gives it: handled by default and not blocked. A test worker
+    may have it ignored or blocked at the system level (a library in it may have set that), and
+    a child inherits both: Python then leaves Ctrl-C ignored, and collisim rightly so."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, [signal.SIGINT])
+
+
 def run(script: str) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=300)
+    return subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=300,
+                          preexec_fn=_as_a_fresh_process)
 
 
 @pytest.mark.parametrize("name", ["SIGTERM", "SIGHUP", "SIGINT"])
@@ -95,3 +105,31 @@ def test_under_a_callers_own_handler_or_off_the_main_thread_nothing_changes():
     """))
     assert result.returncode == 0, result.stderr
     assert result.stdout.strip() == "[True, True, True]"
+
+
+def test_a_signal_while_the_handlers_are_installed_or_put_back_leaves_none_behind():
+    """A signal that lands between installing the handler and entering the block (or while the
+    handlers are put back) must not leave collisim's handler installed: under load, Ctrl-C
+    during simulate's first instants did."""
+    result = run(textwrap.dedent("""
+        import os, signal
+        from collisim import interrupts
+        real = signal.signal
+
+        def install_then_signal(number, handler):
+            before = real(number, handler)
+            if handler is not signal.default_int_handler:
+                os.kill(os.getpid(), signal.SIGINT)   # lands at the next bytecode: still installing
+            return before
+
+        interrupts.signal.signal = install_then_signal
+        try:
+            with interrupts.signals_interrupt((signal.SIGINT,)):
+                print("entered")
+        except KeyboardInterrupt as stop:
+            print("interrupted", type(stop).__name__)
+        interrupts.signal.signal = real
+        print(signal.getsignal(signal.SIGINT) is signal.default_int_handler)
+    """))
+    assert result.returncode == 0, result.stderr[-2000:]
+    assert result.stdout.split() == ["interrupted", "Interrupted", "True"]

@@ -72,13 +72,13 @@ def signals_interrupt(signals=STOP_SIGNALS):
     if threading.current_thread() is not threading.main_thread():
         yield
         return
-    fired, tracing = [], []
+    fired, tracing, closing = [], [], []
 
     def raise_now():
         raise Interrupted(fired[0])
 
     def stop(signum, frame):
-        if fired:
+        if fired or closing:
             return
         fired.append(signum)
         if in_compiled_return(frame) and sys.gettrace() is None:
@@ -86,14 +86,23 @@ def signals_interrupt(signals=STOP_SIGNALS):
             return
         raise_now()
 
-    previous = {number: signal.signal(number, stop) for number in signals}
+    # a signal may land while the handlers are being installed or put back: each handler is noted
+    # before stop replaces it and put back whatever happens (a signal during the installing raises
+    # inside the try), and once closing, a signal is ignored, so that none can cut the putting
+    # back short (under load, one landing there left stop installed after the call had ended)
+    previous = {}
     try:
+        for number in signals:
+            previous[number] = signal.getsignal(number)
+            signal.signal(number, stop)
         yield
     finally:
+        closing.append(True)
         if tracing and sys.gettrace() is tracing[0]:
             sys.settrace(None)
         for number, handler in previous.items():
-            signal.signal(number, handler)
+            if handler is not None:   # None: installed from C, which Python cannot put back
+                signal.signal(number, handler)
 
 
 @contextmanager

@@ -31,7 +31,7 @@ from numba import njit
 
 from ..broadphase.step import AUTO, candidate_pairs, choose, step_state
 from ..geometry.polygon import place_polygons
-from ..model.kinds import CIRCLE, N_WALLS, PAIR, SEGMENT, SUPPORT, WALL
+from ..model.kinds import CIRCLE, MAP, N_WALLS, PAIR, SEGMENT, SUPPORT, WALL
 from ..narrowphase.hierarchy import NOT_COUNTED, level_scratch, record_levels
 from ..response.rows import (margin_of, margins, near_segments, new_found, new_rows, pair_manifolds, rows_from,
                              segment_manifolds, wall_manifolds)
@@ -43,8 +43,8 @@ from .islands import new_sleep
 from .integrate import integrate
 from .profile import Profile, cycles
 from .sleep_paths import carry, doze, keep_touching, remember_sleepers, still, wake
-from .statics_paths import (HELD_BY_SEGMENT, circle_segment_rows, keep_start, settle_in_map, statics_phase,
-                            statics_scratch)
+from .statics_paths import (HELD_BY_MAP, HELD_BY_SEGMENT, circle_map_rows, circle_segment_rows, keep_start,
+                            map_number, settle_in_map, statics_phase, statics_scratch)
 
 INTEGRATE, BROAD, NARROW, RESPONSE, STATICS, SETTLE, SLEEP, RECORD, TOTAL = range(9)
 ITERATIONS = 20   # sweeps of the contact solver per step (response/solver.py)
@@ -177,6 +177,7 @@ def _contact_phases(bodies, statics, broad, sleep, dt, margin, lo, hi, vertices,
     if near > 0:
         k = segment_manifolds(b, vertices, margin, statics.segments, found, k, statics.volumes, sleep.asleep)
     found, k = circle_segment_rows(b, statics, margin, in_pair, found, k, sleep.asleep)
+    found, k = circle_map_rows(b, statics, margin, in_pair, found, k, sleep.asleep)
     if rows.i.shape[0] < 2 * k:   # up to two points a manifold
         rows = new_rows(3 * k)
     count = rows_from(found, k, b, rows)
@@ -185,11 +186,12 @@ def _contact_phases(bodies, statics, broad, sleep, dt, margin, lo, hi, vertices,
 
 
 @njit(cache=True)
-def _log_contacts(rows, count, log, now, frame_collisions):
+def _log_contacts(rows, count, log, now, frame_collisions, the_map):
     """Impacts into the log, counted: between bodies (PAIR), of a body on a wall (WALL, j its
-    side) or of a polygon on a segment (SEGMENT, j the segment); and, not counted, the support
-    of a wall or segment holding a body without an impact (SUPPORT, j the wall's side or
-    N_WALLS + the segment), so a wall's pressure includes the weight it holds."""
+    side), a segment (SEGMENT, j the segment) or the map (MAP, j -1: the static numbered
+    the_map, counted with the segments as the map's bounces are); and, not counted, the support
+    of a static holding a body without an impact (SUPPORT, j the wall's side, N_WALLS + the
+    segment, or the_map), so a wall's pressure includes the weight it holds."""
     log = with_room(log, count)
     for r in range(count):
         impulse = rows.hit[r] + rows.impulse[r]
@@ -198,10 +200,12 @@ def _log_contacts(rows, count, log, now, frame_collisions):
                 append(log, now, PAIR, rows.i[r], rows.j[r], impulse, rows.point[r, 0], rows.point[r, 1])
                 frame_collisions[PAIR] += 1
         elif rows.hit[r] > 0.0:
-            segment = rows.wall[r] >= N_WALLS
-            kind, other = (SEGMENT, rows.wall[r] - N_WALLS) if segment else (WALL, rows.wall[r])
+            wall = rows.wall[r]
+            kind, other = (WALL, wall) if wall < N_WALLS else (SEGMENT, wall - N_WALLS)
+            if wall == the_map:
+                kind, other = MAP, -1
             append(log, now, kind, rows.i[r], other, impulse, rows.point[r, 0], rows.point[r, 1])
-            frame_collisions[kind] += 1
+            frame_collisions[SEGMENT if kind == MAP else kind] += 1
         elif impulse > 0.0:
             append(log, now, SUPPORT, rows.i[r], rows.wall[r], impulse, rows.point[r, 0], rows.point[r, 1])
     return log
@@ -222,6 +226,8 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
     n = b.positions.shape[0]
     lo, hi, margin, push, shift, push_turn, shift_turn, vertices, inverse_masses, inverse_inertias, moved = work
     scratch = statics_scratch(n, s.segments.shape[0])
+    the_map = map_number(s.segments)   # the statics a row names: walls, segments, then the map
+    statics_count = the_map + 1        # (the contacts' memory numbers them all)
     levels = level_scratch(s.volumes, b)
     # each step's contacts are found from the state that ends the step before (so a frame's
     # candidates are those of the state it records); the first block's, from the state given
@@ -243,7 +249,7 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
             if count > 0:
                 collide(rows, count, v, w, b.accelerations, m, inertia, s.restitution, s.friction, s.rest_speed, dt,
                         s.iterations)
-                recall(rows, count, memory, n, N_WALLS + s.segments.shape[0])
+                recall(rows, count, memory, n, statics_count)
                 solve_velocities(rows, count, v, w, b.accelerations, m, inertia, s.friction, dt, s.iterations, push,
                                  push_turn)
                 solve_positions(rows, count, v, w, b.accelerations, m, inertia, dt, s.iterations, push, push_turn,
@@ -255,13 +261,13 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
             t = _lap(phase_cycles, INTEGRATE, t)
             if count > 0:
                 come_to_rest(rows, count, v, w, m, inertia, s.friction)
-                log = _log_contacts(rows, count, log, now, frame_collisions)
+                log = _log_contacts(rows, count, log, now, frame_collisions, the_map)
             if sleep.carried_count[0] > 0:
                 log = carry(sleep, log, now)
-            remembered = remember(rows, count, n, N_WALLS + s.segments.shape[0])
-            memory = (remember_sleepers(sleep, remembered, memory, n, N_WALLS + s.segments.shape[0])
+            remembered = remember(rows, count, n, statics_count)
+            memory = (remember_sleepers(sleep, remembered, memory, n, statics_count)
                       if sleep.sleeping[0] > 0 else remembered)
-            _mark_held(rows, count, scratch[3])
+            _mark_held(rows, count, scratch[3], the_map)
             t = _lap(phase_cycles, RESPONSE, t)
             log = statics_phase(b, s, scratch, dt, log, now, frame_collisions)
             t = _lap(phase_cycles, STATICS, t)
@@ -319,13 +325,15 @@ def _move_by_contacts(bodies, i, push, push_turn, shift, shift_turn, dt):
 
 
 @njit(cache=True)
-def _mark_held(rows, count, held):
-    """held (n, 3): the axes on which a wall row held each body this step, and whether a
-    segment's row held it (HELD_BY_SEGMENT)."""
+def _mark_held(rows, count, held, the_map):
+    """held (n, 4): the axes on which a wall row held each body this step, and whether a
+    segment's row (HELD_BY_SEGMENT) or the map's (the static numbered the_map: HELD_BY_MAP) held it."""
     held[:] = False
     for r in range(count):
         if rows.j[r] < 0 and rows.impulse[r] > 0.0:
-            held[rows.i[r], rows.wall[r] // 2 if rows.wall[r] < N_WALLS else HELD_BY_SEGMENT] = True
+            wall = rows.wall[r]
+            column = wall // 2 if wall < N_WALLS else HELD_BY_MAP if wall == the_map else HELD_BY_SEGMENT
+            held[rows.i[r], column] = True
 
 
 def new_frames(count: int, n: int, turning: bool = True, into=None) -> Frames:

@@ -15,18 +15,20 @@ from numba.core import types
 from numba.extending import overload
 
 from ..arrays import grown
+from ..compiling import uncounted
 from ..geometry.box import centre_range
-from ..model.kinds import CIRCLE, MAP, SEGMENT, WALL
+from ..model.kinds import CIRCLE, MAP, N_WALLS, SEGMENT, WALL
 from ..narrowphase.statics import segment_contacts
 from ..response.map import bounce_off_map, push_out
-from ..response.rows import circle_segment_manifolds
+from ..response.rows import circle_map_manifold, circle_segment_manifolds
 from ..response.statics import bounce_between_walls, bounce_off_segment, put_on_segment
 from ..statics.map_field import has_map
 from ..statics.segment_index import segments_near
 from .eventlog import append, with_room
 
 
-HELD_BY_SEGMENT = 2   # the column of statics_scratch's held (n, 3) after the two axes of the walls
+# columns of statics_scratch's held (n, 4) after the two axes of the walls: held by a segment, by the map
+HELD_BY_SEGMENT, HELD_BY_MAP = 2, 3
 
 
 def _lacks(statics_type, field: str) -> bool:
@@ -51,10 +53,18 @@ def circle_segment_rows(bodies, statics, margin, in_pair, found, k, asleep):
     raise NotImplementedError("circle_segment_rows is called from compiled code")
 
 
-def map_phase(bodies, statics, start, dt, log, now, frame_collisions):
+def circle_map_rows(bodies, statics, margin, in_pair, found, k, asleep):
+    """Record after found[:k] the manifolds of the circles held by the collision map (compiled
+    code only; response/rows.circle_map_manifold), by the rule and with the lone fast circles
+    left out as for circle_segment_rows. Returns (found, the new record count)."""
+    raise NotImplementedError("circle_map_rows is called from compiled code")
+
+
+def map_phase(bodies, statics, start, held, dt, log, now, frame_collisions):
     """Every body's move this step of dt (from start (n, 2)) against the collision map (compiled
     code only); bounces are counted with the segments' (frame_collisions[SEGMENT]) and logged as
-    MAP events. Returns the log."""
+    MAP events. A body the contact solver held against the map (held (n, 4), HELD_BY_MAP) is
+    only pushed back out of it, not bounced. Returns the log."""
     raise NotImplementedError("map_phase is called from compiled code")
 
 
@@ -104,10 +114,8 @@ def _circle_segment_rows(bodies, statics, margin, in_pair, found, k, asleep):
         b, s = bodies, statics
         near = np.empty(max(s.segments.shape[0], 1), np.int64)
         for i in range(b.positions.shape[0]):
-            if b.shapes[i] != CIRCLE or asleep[i]:
+            if not _may_be_held(b, in_pair, asleep, s.rest_speed, i):
                 continue
-            if not in_pair[i] and b.velocities[i, 0] ** 2 + b.velocities[i, 1] ** 2 > s.rest_speed ** 2:
-                continue   # a lone circle this fast cannot rest on a segment: the segment bounce takes it
             reach = b.radii[i] + margin[i]
             x, y = b.positions[i, 0], b.positions[i, 1]
             count = segments_near(s.index, x - reach, y - reach, x + reach, y + reach, near)
@@ -117,17 +125,56 @@ def _circle_segment_rows(bodies, statics, margin, in_pair, found, k, asleep):
     return held_by_segments
 
 
-@overload(map_phase)
-def _map_phase(bodies, statics, start, dt, log, now, frame_collisions):
-    if _lacks(statics, "map"):
-        return lambda bodies, statics, start, dt, log, now, frame_collisions: log
+@uncounted
+def map_number(segments):
+    """The collision map's number among the statics a contact row names (rows.wall): after the
+    box walls and the segments (m, 4)."""
+    return N_WALLS + segments.shape[0]
 
-    def bounce_off(bodies, statics, start, dt, log, now, frame_collisions):
+
+@uncounted
+def _may_be_held(bodies, in_pair, asleep, rest_speed, i):
+    """Can a static hold body i in the contact solver this step, by the circles' rule? An awake
+    circle in a pair's manifold, or no faster than the rest speed: a lone faster circle cannot
+    rest on a static, whose exact bounce takes its impact (circle_segment_rows); polygons meet
+    the statics through their own manifolds, sleepers through none."""
+    v = bodies.velocities
+    slow = v[i, 0] * v[i, 0] + v[i, 1] * v[i, 1] <= rest_speed * rest_speed
+    return bodies.shapes[i] == CIRCLE and not asleep[i] and (in_pair[i] or slow)
+
+
+@overload(circle_map_rows)
+def _circle_map_rows(bodies, statics, margin, in_pair, found, k, asleep):
+    if _lacks(statics, "map"):
+        return lambda bodies, statics, margin, in_pair, found, k, asleep: (found, k)
+
+    def held_by_map(bodies, statics, margin, in_pair, found, k, asleep):
+        b, s = bodies, statics
+        if not has_map(s.map):
+            return found, k
+        found = grown(found, k + b.positions.shape[0], k)
+        the_map = map_number(s.segments)
+        for i in range(b.positions.shape[0]):
+            if _may_be_held(b, in_pair, asleep, s.rest_speed, i):
+                k = circle_map_manifold(b, margin, s.map, the_map, i, s.rest_speed, in_pair, found, k)
+        return found, k
+    return held_by_map
+
+
+@overload(map_phase)
+def _map_phase(bodies, statics, start, held, dt, log, now, frame_collisions):
+    if _lacks(statics, "map"):
+        return lambda bodies, statics, start, held, dt, log, now, frame_collisions: log
+
+    def bounce_off(bodies, statics, start, held, dt, log, now, frame_collisions):
         b = bodies
         if not has_map(statics.map):
             return log
         log = with_room(log, b.positions.shape[0])
         for i in range(b.positions.shape[0]):
+            if held[i, HELD_BY_MAP]:
+                push_out(statics.map, b.positions, b.radii[i], i)
+                continue   # held there by the solver: rounding into the map is not a bounce
             impulse, x, y, bounces = bounce_off_map(statics.map, start, b.positions, b.velocities, b.accelerations,
                                                     b.radii, b.masses, statics.restitution, dt, i)
             if bounces > 0:
@@ -166,11 +213,11 @@ def _settle_in_map(field, positions, radii):
 def statics_scratch(n, m):
     """Buffers for statics_phase: segment contacts (room for one a body; grown when a step has
     more), near segments (m,), the positions (n, 2) at the start of the step (the map
-    marches each step's move from there), and held (n, 3) bool: the axes on which the contact
+    marches each step's move from there), and held (n, 4) bool: the axes on which the contact
     solver held a body against a wall this step, and whether it held it against a segment
-    (HELD_BY_SEGMENT): it is put back there, not bounced."""
+    (HELD_BY_SEGMENT) or the map (HELD_BY_MAP): it is put back there, not bounced."""
     return (np.empty((n + 16, 2), np.int64), np.empty(max(m, 1), np.int64), np.empty((n, 2)),
-            np.zeros((n, 3), np.bool_))
+            np.zeros((n, 4), np.bool_))
 
 
 @njit(cache=True)
@@ -179,7 +226,7 @@ def statics_phase(bodies, statics, scratch, dt, log, now, frame_collisions):
     segment) and log. scratch from statics_scratch. Returns the log."""
     b, s = bodies, statics
     log = segment_phase(b, s, scratch, log, now, frame_collisions)
-    log = map_phase(b, s, scratch[2], dt, log, now, frame_collisions)
+    log = map_phase(b, s, scratch[2], scratch[3], dt, log, now, frame_collisions)
     log = with_room(log, 4 * b.positions.shape[0])  # at most one event per body and wall
     for i in range(b.positions.shape[0]):
         if b.shapes[i] != CIRCLE:

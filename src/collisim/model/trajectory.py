@@ -34,7 +34,8 @@ class Events:
     kind: (k,) int8 kinds.WALL, PAIR, SEGMENT, MAP, or SUPPORT (a resting body's support, not a collision)
     i: (k,)         the body
     j: (k,)         the other body (PAIR, i < j), the wall (WALL: kinds.WALL_SIDES), the segment, or the
-                    support (SUPPORT: a wall side, or kinds.N_WALLS + the segment)
+                    support (SUPPORT: a wall side, kinds.N_WALLS + the segment, or kinds.N_WALLS + the
+                    number of segments for the collision map)
     impulse: (k,)   magnitude of the impulse on body i along the contact normal
     point: (k, 2)   contact point
     """

@@ -12,10 +12,11 @@ Rows are made from the state at the *start* of the step, before anything moves:
   touches another body this step (a pile must be held by the floor in the same solve as by its
   neighbours). A lone circle's fast impact is left to the wall bounce (response/statics.py),
   which reflects the overshoot exactly;
-* a circle and a segment by the same rule as a circle and a wall (circle_segment_manifolds).
-  Left to the segment bounce alone, a pile on a segment sank into itself: each step the bounce
-  put the bottom circles back on the segment, into the circles the solver had just pushed
-  them away from (two circles of a pile coincided within seconds).
+* a circle and a segment, or the collision map, by the same rule as a circle and a wall
+  (circle_segment_manifolds, circle_map_manifold). Left to the bounce alone, a pile on a
+  segment or a map sank into itself: each step the bounce put the bottom circles back out,
+  into the circles the solver had just pushed them away from (two circles of a pile
+  coincided within seconds).
 
 The contact phases first collect the *manifolds* of these contacts (narrowphase/manifold.py),
 one record each in a scratch array (`new_found`: who meets whom, how far a point may be and
@@ -41,6 +42,7 @@ from ..model.kinds import CIRCLE, N_WALLS
 from ..narrowphase.circles import circles_touch
 from ..narrowphase.manifold import body_pair_manifold, body_segment_manifold, body_wall_manifold
 from ..narrowphase.statics import circle_segment
+from ..statics.map_field import map_sample
 
 SLOP = 0.005   # of the smaller radius: an overlap the solver tolerates between bodies (solver.py)
 MARGIN = 0.01  # of the radius: every body's smallest speculative margin (a resting pile that falls
@@ -224,19 +226,37 @@ def circle_segment_manifolds(bodies, margin, segments, near, count, i, rest_spee
     meeting the segment slower than the rest speed or in a pair's manifold this step; a lone
     fast impact is left to the segment bounce (response/statics.py). j = -1, wall = N_WALLS +
     the segment's number. Returns the new record count (the caller makes the room)."""
-    positions, velocities, radii = bodies.positions, bodies.velocities, bodies.radii
     for c in range(count):
         s = near[c]
-        nx, ny, depth, _, _ = circle_segment(positions, radii, i, segments, s)   # n: segment -> centre
-        gap = -depth
-        if gap >= margin[i]:
-            continue
-        if -(velocities[i, 0] * nx + velocities[i, 1] * ny) > rest_speed and not in_pair[i]:
-            continue   # a lone fast impact: the exact segment bounce takes it
-        reach = radii[i] + 0.5 * gap   # midway between the circle and the segment
-        m = (-nx, -ny, 1, -gap, positions[i, 0] - reach * nx, positions[i, 1] - reach * ny, 0.0, 0.0, 0.0)
-        k = _record(found, k, i, -1, N_WALLS + s, margin[i], 0.0, m)
+        nx, ny, depth, _, _ = circle_segment(bodies.positions, bodies.radii, i, segments, s)   # segment -> centre
+        k = _held_by_static(bodies, margin, i, nx, ny, -depth, N_WALLS + s, rest_speed, in_pair, found, k)
     return k
+
+
+@njit(cache=True)
+def circle_map_manifold(bodies, margin, field, static, i, rest_speed, in_pair, found, k):
+    """Record as found[k] the manifold of circle i with the collision map (field), if it holds it, by
+    the rule of circle_segment_manifolds: its gap is the map's distance at the centre less the
+    radius, its normal the map's. j = -1, wall = `static` (the map's number: N_WALLS + the
+    number of segments). Returns the new record count (the caller makes the room)."""
+    d, nx, ny = map_sample(field, bodies.positions[i, 0], bodies.positions[i, 1])   # normal: out of the map
+    if nx == 0.0 and ny == 0.0:
+        return k   # no normal (deep in the solid, or on a ridge): the map's push-out takes it
+    return _held_by_static(bodies, margin, i, nx, ny, d - bodies.radii[i], static, rest_speed, in_pair, found, k)
+
+
+@uncounted
+def _held_by_static(bodies, margin, i, nx, ny, gap, static, rest_speed, in_pair, found, k):
+    """Record circle i's manifold with a static at `gap` along (nx, ny) (from the static to the
+    centre) if the static holds it (circle_segment_manifolds' rule). Returns the new count."""
+    positions, velocities = bodies.positions, bodies.velocities
+    if gap >= margin[i]:
+        return k
+    if -(velocities[i, 0] * nx + velocities[i, 1] * ny) > rest_speed and not in_pair[i]:
+        return k   # a lone fast impact: the static's exact bounce takes it
+    reach = bodies.radii[i] + 0.5 * gap   # midway between the circle and the static
+    m = (-nx, -ny, 1, -gap, positions[i, 0] - reach * nx, positions[i, 1] - reach * ny, 0.0, 0.0, 0.0)
+    return _record(found, k, i, -1, static, margin[i], 0.0, m)
 
 
 @njit(cache=True)
