@@ -20,7 +20,7 @@ from ..geometry.box import centre_range
 from ..model.kinds import CIRCLE, MAP, N_WALLS, SEGMENT, WALL
 from ..narrowphase.statics import segment_contacts
 from ..response.map import bounce_off_map, push_out
-from ..response.rows import circle_map_manifold, circle_segment_manifolds
+from ..response.rows import circle_map_manifold, circle_segment_manifolds, may_rest_on_a_static
 from ..response.statics import bounce_between_walls, bounce_off_segment, put_on_segment
 from ..statics.map_field import has_map
 from ..statics.segment_index import segments_near
@@ -46,17 +46,16 @@ def segment_phase(bodies, statics, scratch, log, now, frame_collisions):
 def circle_segment_rows(bodies, statics, margin, in_pair, found, k, asleep):
     """Record after found[:k] the manifolds of the circles held by segments (compiled code only;
     response/rows.circle_segment_manifolds), found grown as needed; sleepers have none, as for
-    the walls. Only circles in a pair's manifold (in_pair) or no faster than the rest speed look
-    for their segments in the index: a lone faster one cannot rest on a segment, and the segment
-    bounce takes its impact (looking up every circle's segments twice a step made a gas among
+    the walls. Only circles that may rest on a static (rows.may_rest_on_a_static) look for their
+    segments in the index (looking up every circle's segments twice a step made a gas among
     segments cost 4.0 x the gas alone, against 2.0 x). Returns (found, the new record count)."""
     raise NotImplementedError("circle_segment_rows is called from compiled code")
 
 
 def circle_map_rows(bodies, statics, margin, in_pair, found, k, asleep):
     """Record after found[:k] the manifolds of the circles held by the collision map (compiled
-    code only; response/rows.circle_map_manifold), by the rule and with the lone fast circles
-    left out as for circle_segment_rows. Returns (found, the new record count)."""
+    code only; response/rows.circle_map_manifold), for the circles that may rest on a static, as
+    for circle_segment_rows. Returns (found, the new record count)."""
     raise NotImplementedError("circle_map_rows is called from compiled code")
 
 
@@ -114,13 +113,13 @@ def _circle_segment_rows(bodies, statics, margin, in_pair, found, k, asleep):
         b, s = bodies, statics
         near = np.empty(max(s.segments.shape[0], 1), np.int64)
         for i in range(b.positions.shape[0]):
-            if not _may_be_held(b, in_pair, asleep, s.rest_speed, i):
+            if not may_rest_on_a_static(b, in_pair, asleep, s.rest_speed, i):
                 continue
             reach = b.radii[i] + margin[i]
             x, y = b.positions[i, 0], b.positions[i, 1]
             count = segments_near(s.index, x - reach, y - reach, x + reach, y + reach, near)
             found = grown(found, k + count, k)
-            k = circle_segment_manifolds(b, margin, s.segments, near, count, i, s.rest_speed, in_pair, found, k)
+            k = circle_segment_manifolds(b, margin, s.segments, near, count, i, found, k)
         return found, k
     return held_by_segments
 
@@ -130,17 +129,6 @@ def map_number(segments):
     """The collision map's number among the statics a contact row names (rows.wall): after the
     box walls and the segments (m, 4)."""
     return N_WALLS + segments.shape[0]
-
-
-@uncounted
-def _may_be_held(bodies, in_pair, asleep, rest_speed, i):
-    """Can a static hold body i in the contact solver this step, by the circles' rule? An awake
-    circle in a pair's manifold, or no faster than the rest speed: a lone faster circle cannot
-    rest on a static, whose exact bounce takes its impact (circle_segment_rows); polygons meet
-    the statics through their own manifolds, sleepers through none."""
-    v = bodies.velocities
-    slow = v[i, 0] * v[i, 0] + v[i, 1] * v[i, 1] <= rest_speed * rest_speed
-    return bodies.shapes[i] == CIRCLE and not asleep[i] and (in_pair[i] or slow)
 
 
 @overload(circle_map_rows)
@@ -155,8 +143,8 @@ def _circle_map_rows(bodies, statics, margin, in_pair, found, k, asleep):
         found = grown(found, k + b.positions.shape[0], k)
         the_map = map_number(s.segments)
         for i in range(b.positions.shape[0]):
-            if _may_be_held(b, in_pair, asleep, s.rest_speed, i):
-                k = circle_map_manifold(b, margin, s.map, the_map, i, s.rest_speed, in_pair, found, k)
+            if may_rest_on_a_static(b, in_pair, asleep, s.rest_speed, i):
+                k = circle_map_manifold(b, margin, s.map, the_map, i, found, k)
         return found, k
     return held_by_map
 
