@@ -43,8 +43,8 @@ from .islands import new_sleep
 from .integrate import integrate
 from .profile import Profile, cycles
 from .sleep_paths import carry, doze, keep_touching, remember_sleepers, still, wake
-from .statics_paths import (HELD_BY_MAP, HELD_BY_SEGMENT, circle_map_rows, circle_segment_rows, keep_start,
-                            map_number, settle_in_map, statics_phase, statics_scratch)
+from .statics_paths import (circle_map_rows, circle_segment_rows, keep_start, map_number, mark_held, settle_in_map,
+                            statics_phase, statics_scratch)
 
 INTEGRATE, BROAD, NARROW, RESPONSE, STATICS, SETTLE, SLEEP, RECORD, TOTAL = range(9)
 ITERATIONS = 20   # sweeps of the contact solver per step (response/solver.py)
@@ -267,7 +267,7 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
             remembered = remember(rows, count, n, statics_count)
             memory = (remember_sleepers(sleep, remembered, memory, n, statics_count)
                       if sleep.sleeping[0] > 0 else remembered)
-            _mark_held(rows, count, scratch[3], the_map)
+            mark_held(rows, count, scratch[3], the_map)
             t = _lap(phase_cycles, RESPONSE, t)
             log = statics_phase(b, s, scratch, dt, log, now, frame_collisions)
             t = _lap(phase_cycles, STATICS, t)
@@ -322,18 +322,6 @@ def _move_by_contacts(bodies, i, push, push_turn, shift, shift_turn, dt):
         b.velocities[i, axis] += 2.0 * push[i, axis]
     b.angles[i] += (push_turn[i] + shift_turn[i]) * dt
     b.angular_velocities[i] += 2.0 * push_turn[i]
-
-
-@njit(cache=True)
-def _mark_held(rows, count, held, the_map):
-    """held (n, 4): the axes on which a wall row held each body this step, and whether a
-    segment's row (HELD_BY_SEGMENT) or the map's (the static numbered the_map: HELD_BY_MAP) held it."""
-    held[:] = False
-    for r in range(count):
-        if rows.j[r] < 0 and rows.impulse[r] > 0.0:
-            wall = rows.wall[r]
-            column = wall // 2 if wall < N_WALLS else HELD_BY_MAP if wall == the_map else HELD_BY_SEGMENT
-            held[rows.i[r], column] = True
 
 
 def new_frames(count: int, n: int, turning: bool = True, into=None) -> Frames:

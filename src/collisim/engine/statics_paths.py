@@ -209,6 +209,18 @@ def statics_scratch(n, m):
 
 
 @njit(cache=True)
+def mark_held(rows, count, held, the_map):
+    """held (n, 4): the axes on which a wall row held each body this step, and whether a
+    segment's row (HELD_BY_SEGMENT) or the map's (the static numbered the_map: HELD_BY_MAP) held it."""
+    held[:] = False
+    for r in range(count):
+        if rows.j[r] < 0 and rows.impulse[r] > 0.0:
+            wall = rows.wall[r]
+            column = wall // 2 if wall < N_WALLS else HELD_BY_MAP if wall == the_map else HELD_BY_SEGMENT
+            held[rows.i[r], column] = True
+
+
+@njit(cache=True)
 def statics_phase(bodies, statics, scratch, dt, log, now, frame_collisions):
     """Segments, then walls, in place; collisions added to frame_collisions (3,: wall, pair,
     segment) and log. scratch from statics_scratch. Returns the log."""
