@@ -88,3 +88,24 @@ def test_a_pile_in_a_v_keeps_its_circles_apart_and_above_it(fps, statics):
     for segment in V_SEGMENTS:                                          # the map's V has the same outline
         assert (line_distance(last_second.reshape(-1, 2), segment) > R - 0.05 * R - (CELL if statics == "map" else 0)).all()
     assert np.abs(run.velocities[-1]).max() < 0.2                       # and the pile has come (nearly) to rest
+
+
+@pytest.mark.parametrize("friction", [0.0, 0.5])
+def test_a_ball_on_a_sloped_segment_slides_or_rolls_as_the_closed_form_says(friction):
+    """On a 20° segment a frictionless ball slides, s = ½·g·sinθ·t²; with friction 0.5 (more than
+    the tan θ / 3 rolling needs) a uniform disc rolls, s = ⅓·g·sinθ·t² and ω = -⅔·g·sinθ·t / r.
+    The segment holds it in the contact solver, where friction acts, all the way down: its speed
+    soon passes the rest speed, so only its touching the segment keeps its rows (a lone circle
+    that fast was left to the bounce, without friction, and slid 36 % too far)."""
+    slope, g, t = np.radians(20.0), 9.8, 1.0
+    normal = np.array([np.sin(slope), np.cos(slope)])
+    start = np.array([2.0, 10.0 - 2.0 * np.tan(slope)]) + R * normal
+    world = collisim.World(positions=[start], radii=R, box=(0, -5, 20, 15), gravity=(0, -g), restitution=0.0,
+                           friction=friction, segments=[[0.0, 10.0, 20.0, 10.0 - 20.0 * np.tan(slope)]])
+    run = settled(world, fps=60, seconds=t)
+    share = 1.0 if friction == 0.0 else 2.0 / 3.0           # of g·sinθ: sliding, or rolling (I = ½·m·r²)
+    travelled = np.linalg.norm(run.positions[-1][0] - start)
+    assert travelled == pytest.approx(0.5 * share * g * np.sin(slope) * t ** 2, rel=0.01)
+    spin = 0.0 if friction == 0.0 else -share * g * np.sin(slope) * t / R
+    assert run.angular_velocities[-1][0] == pytest.approx(spin, rel=0.01, abs=1e-9)
+    assert abs(line_distance(run.positions[:, 0], world.segments[0]) - R).max() < 0.01 * R   # on it throughout

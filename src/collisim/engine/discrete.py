@@ -136,10 +136,11 @@ def sort_pairs(pairs, n):
 
 
 @njit(cache=True)
-def _contact_phases(bodies, statics, broad, sleep, dt, margin, lo, hi, vertices, found, rows, prior,
+def _contact_phases(bodies, statics, broad, sleep, dt, margin, lo, hi, vertices, held, found, rows, prior,
                     phase_cycles, t):
     """broad and narrow: the step's contact rows, from the state at its start. vertices (V, 2)
-    receives the polygons' world vertices; found and rows (response/rows.py) are kept from step
+    receives the polygons' world vertices; held: statics_paths.statics_scratch's (which circles
+    touch a segment); found and rows (response/rows.py) are kept from step
     to step, grown when a step needs more. Sleepers a body comes near are woken first, and then
     have their margins and pairs found again (engine/islands.py); prior: the (pairs, touching)
     of the contact phase before, which pairs of sleepers keep (all of them when every body slept
@@ -176,7 +177,7 @@ def _contact_phases(bodies, statics, broad, sleep, dt, margin, lo, hi, vertices,
                        sleep.asleep)
     if near > 0:
         k = segment_manifolds(b, vertices, margin, statics.segments, found, k, statics.volumes, sleep.asleep)
-    found, k = circle_segment_rows(b, statics, margin, in_pair, found, k, sleep.asleep)
+    found, k = circle_segment_rows(b, statics, margin, in_pair, held, found, k, sleep.asleep)
     found, k = circle_map_rows(b, statics, margin, in_pair, found, k, sleep.asleep)
     if rows.i.shape[0] < 2 * k:   # up to two points a manifold
         rows = new_rows(3 * k)
@@ -236,8 +237,8 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
     t = cycles()
     if count < 0:
         found, rows, count, pairs, touching, t = _contact_phases(b, s, broad, sleep, dt, margin, lo, hi, vertices,
-                                                                 found, rows, (pairs, touching), phase_cycles,
-                                                                 t)
+                                                                 scratch[3], found, rows, (pairs, touching),
+                                                                 phase_cycles, t)
     still_since_record = False   # every body asleep at the last frame recorded, none since
     for frame in range(out.positions.shape[0]):
         frame_collisions = out.collisions[frame]
@@ -276,8 +277,8 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
             doze(sleep, b, rows, count, dt)
             t = _lap(phase_cycles, SLEEP, t)
             found, rows, count, pairs, touching, t = _contact_phases(b, s, broad, sleep, dt, margin, lo, hi,
-                                                                     vertices, found, rows, (pairs, touching),
-                                                                     phase_cycles, t)
+                                                                     vertices, scratch[3], found, rows,
+                                                                     (pairs, touching), phase_cycles, t)
         out.candidates[frame] = pairs.shape[0]
         if frame > 0 and still_since_record and still(sleep, n):
             out.hierarchy[frame] = out.hierarchy[frame - 1]   # the same state as the frame before

@@ -20,15 +20,16 @@ from ..geometry.box import centre_range
 from ..model.kinds import CIRCLE, MAP, N_WALLS, SEGMENT, WALL
 from ..narrowphase.statics import segment_contacts
 from ..response.map import bounce_off_map, push_out
-from ..response.rows import circle_map_manifold, circle_segment_manifolds, may_rest_on_a_static
+from ..response.rows import circle_map_manifold, circle_segment_manifolds
 from ..response.statics import bounce_between_walls, bounce_off_segment, put_on_segment
 from ..statics.map_field import has_map
 from ..statics.segment_index import segments_near
 from .eventlog import append, with_room
 
 
-# columns of statics_scratch's held (n, 4) after the two axes of the walls: held by a segment, by the map
-HELD_BY_SEGMENT, HELD_BY_MAP = 2, 3
+# columns of statics_scratch's held (n, 5) after the two axes of the walls: held by a segment, by the
+# map, and touching a segment at the end of the step (the segment phase's contacts)
+HELD_BY_SEGMENT, HELD_BY_MAP, TOUCHES_SEGMENT = 2, 3, 4
 
 
 def _lacks(statics_type, field: str) -> bool:
@@ -43,19 +44,22 @@ def segment_phase(bodies, statics, scratch, log, now, frame_collisions):
     raise NotImplementedError("segment_phase is called from compiled code")
 
 
-def circle_segment_rows(bodies, statics, margin, in_pair, found, k, asleep):
+def circle_segment_rows(bodies, statics, margin, in_pair, held, found, k, asleep):
     """Record after found[:k] the manifolds of the circles held by segments (compiled code only;
     response/rows.circle_segment_manifolds), found grown as needed; sleepers have none, as for
-    the walls. Only circles that may rest on a static (rows.may_rest_on_a_static) look for their
-    segments in the index (looking up every circle's segments twice a step made a gas among
+    the walls. Only the circles that could be held look for their segments in the index: those
+    in a pair's manifold, no faster than the rest speed, or touching a segment at the end of the
+    step before (held[:, TOUCHES_SEGMENT], from the segment phase's own lookup: a ball rolling
+    down a slope). A lone fast circle in free flight cannot rest on a segment, and the segment
+    bounce takes its impact (looking up every circle's segments twice a step made a gas among
     segments cost 4.0 x the gas alone, against 2.0 x). Returns (found, the new record count)."""
     raise NotImplementedError("circle_segment_rows is called from compiled code")
 
 
 def circle_map_rows(bodies, statics, margin, in_pair, found, k, asleep):
-    """Record after found[:k] the manifolds of the circles held by the collision map (compiled
-    code only; response/rows.circle_map_manifold), for the circles that may rest on a static, as
-    for circle_segment_rows. Returns (found, the new record count)."""
+    """Record after found[:k] the manifolds of the awake circles held by the collision map
+    (compiled code only; response/rows.circle_map_manifold: one sample of the map a circle).
+    Returns (found, the new record count)."""
     raise NotImplementedError("circle_map_rows is called from compiled code")
 
 
@@ -92,6 +96,7 @@ def _segment_phase(bodies, statics, scratch, log, now, frame_collisions):
             i, k = found[c, 0], found[c, 1]
             if b.shapes[i] != CIRCLE:
                 continue   # a polygon meets segments through the contact solver (response/rows.segment_manifolds)
+            scratch[3][i, TOUCHES_SEGMENT] = True
             if scratch[3][i, HELD_BY_SEGMENT]:
                 put_on_segment(b.positions, b.radii, s.segments, i, k)
                 continue   # held there by the solver: rounding into the segment is not a bounce
@@ -105,21 +110,25 @@ def _segment_phase(bodies, statics, scratch, log, now, frame_collisions):
 
 
 @overload(circle_segment_rows)
-def _circle_segment_rows(bodies, statics, margin, in_pair, found, k, asleep):
+def _circle_segment_rows(bodies, statics, margin, in_pair, held, found, k, asleep):
     if _lacks(statics, "index"):
-        return lambda bodies, statics, margin, in_pair, found, k, asleep: (found, k)
+        return lambda bodies, statics, margin, in_pair, held, found, k, asleep: (found, k)
 
-    def held_by_segments(bodies, statics, margin, in_pair, found, k, asleep):
+    def held_by_segments(bodies, statics, margin, in_pair, held, found, k, asleep):
         b, s = bodies, statics
         near = np.empty(max(s.segments.shape[0], 1), np.int64)
         for i in range(b.positions.shape[0]):
-            if not may_rest_on_a_static(b, in_pair, asleep, s.rest_speed, i):
+            if b.shapes[i] != CIRCLE or asleep[i]:
+                continue
+            v = b.velocities
+            slow = v[i, 0] * v[i, 0] + v[i, 1] * v[i, 1] <= s.rest_speed * s.rest_speed
+            if not (in_pair[i] or slow or held[i, TOUCHES_SEGMENT]):
                 continue
             reach = b.radii[i] + margin[i]
             x, y = b.positions[i, 0], b.positions[i, 1]
             count = segments_near(s.index, x - reach, y - reach, x + reach, y + reach, near)
             found = grown(found, k + count, k)
-            k = circle_segment_manifolds(b, margin, s.segments, near, count, i, found, k)
+            k = circle_segment_manifolds(b, margin, s.segments, near, count, i, s.rest_speed, in_pair, found, k)
         return found, k
     return held_by_segments
 
@@ -143,8 +152,8 @@ def _circle_map_rows(bodies, statics, margin, in_pair, found, k, asleep):
         found = grown(found, k + b.positions.shape[0], k)
         the_map = map_number(s.segments)
         for i in range(b.positions.shape[0]):
-            if may_rest_on_a_static(b, in_pair, asleep, s.rest_speed, i):
-                k = circle_map_manifold(b, margin, s.map, the_map, i, found, k)
+            if b.shapes[i] == CIRCLE and not asleep[i]:
+                k = circle_map_manifold(b, margin, s.map, the_map, i, s.rest_speed, in_pair, found, k)
         return found, k
     return held_by_map
 
@@ -201,17 +210,19 @@ def _settle_in_map(field, positions, radii):
 def statics_scratch(n, m):
     """Buffers for statics_phase: segment contacts (room for one a body; grown when a step has
     more), near segments (m,), the positions (n, 2) at the start of the step (the map
-    marches each step's move from there), and held (n, 4) bool: the axes on which the contact
+    marches each step's move from there), and held (n, 5) bool: the axes on which the contact
     solver held a body against a wall this step, and whether it held it against a segment
-    (HELD_BY_SEGMENT) or the map (HELD_BY_MAP): it is put back there, not bounced."""
+    (HELD_BY_SEGMENT) or the map (HELD_BY_MAP): it is put back there, not bounced; and whether
+    it touches a segment after the statics phase (TOUCHES_SEGMENT: circle_segment_rows)."""
     return (np.empty((n + 16, 2), np.int64), np.empty(max(m, 1), np.int64), np.empty((n, 2)),
-            np.zeros((n, 4), np.bool_))
+            np.zeros((n, 5), np.bool_))
 
 
 @njit(cache=True)
 def mark_held(rows, count, held, the_map):
-    """held (n, 4): the axes on which a wall row held each body this step, and whether a
-    segment's row (HELD_BY_SEGMENT) or the map's (the static numbered the_map: HELD_BY_MAP) held it."""
+    """held (n, 5): the axes on which a wall row held each body this step, and whether a
+    segment's row (HELD_BY_SEGMENT) or the map's (the static numbered the_map: HELD_BY_MAP) held
+    it; TOUCHES_SEGMENT cleared, for the segment phase to set."""
     held[:] = False
     for r in range(count):
         if rows.j[r] < 0 and rows.impulse[r] > 0.0:

@@ -12,9 +12,8 @@ Rows are made from the state at the *start* of the step, before anything moves:
   touches another body this step (a pile must be held by the floor in the same solve as by its
   neighbours). A lone circle's fast impact is left to the wall bounce (response/statics.py),
   which reflects the overshoot exactly;
-* a circle and a segment, or the collision map, within its margin when it is in a pair's
-  manifold or no faster than the rest speed (may_rest_on_a_static: a wall's rule, checked once
-  a body rather than once a static, whose lookup costs more). Left to the bounce alone, a pile on a
+* a circle and a segment, or the collision map, by the same rule as a circle and a wall
+  (circle_segment_manifolds, circle_map_manifold). Left to the bounce alone, a pile on a
   segment or a map sank into itself: each step the bounce put the bottom circles back out,
   into the circles the solver had just pushed them away from (two circles of a pile
   coincided within seconds).
@@ -220,49 +219,42 @@ def wall_manifolds(bodies, vertices, margin, box, rest_speed, in_pair, found, k,
     return k
 
 
-@uncounted
-def may_rest_on_a_static(bodies, in_pair, asleep, rest_speed, i):
-    """May a segment or the map hold body i in the contact solver this step? The rule of a circle
-    and a wall (wall_manifolds) for statics that are costlier to look up: an awake circle in a
-    pair's manifold, or no faster than the rest speed. A lone faster circle cannot rest there,
-    and the static's exact bounce takes its impact (response/statics.py, response/map.py);
-    polygons meet the statics through their own manifolds, sleepers through none."""
-    v = bodies.velocities
-    slow = v[i, 0] * v[i, 0] + v[i, 1] * v[i, 1] <= rest_speed * rest_speed
-    return bodies.shapes[i] == CIRCLE and not asleep[i] and (in_pair[i] or slow)
-
-
 @njit(cache=True)
-def circle_segment_manifolds(bodies, margin, segments, near, count, i, found, k):
-    """Record after found[:k] the manifolds of circle i (may_rest_on_a_static) with the segments
-    near[:count] within its margin: j = -1, wall = N_WALLS + the segment's number. Returns the
-    new record count (the caller makes the room)."""
+def circle_segment_manifolds(bodies, margin, segments, near, count, i, rest_speed, in_pair, found, k):
+    """Record after found[:k] the manifolds of circle i with the segments near[:count] that hold
+    it (_held_by_static): j = -1, wall = N_WALLS + the segment's number. Returns the new record
+    count (the caller makes the room)."""
     for c in range(count):
         s = near[c]
         nx, ny, depth, _, _ = circle_segment(bodies.positions, bodies.radii, i, segments, s)   # segment -> centre
-        k = _held_by_static(bodies, margin, i, nx, ny, -depth, N_WALLS + s, found, k)
+        k = _held_by_static(bodies, margin, i, nx, ny, -depth, N_WALLS + s, rest_speed, in_pair, found, k)
     return k
 
 
 @njit(cache=True)
-def circle_map_manifold(bodies, margin, field, static, i, found, k):
-    """Record as found[k] the manifold of circle i (may_rest_on_a_static) with the collision map
-    (field) if it is within its margin: its gap is the map's distance at the centre less the
-    radius, its normal the map's; j = -1, wall = `static` (the map's number: N_WALLS + the
-    number of segments). Returns the new record count (the caller makes the room)."""
+def circle_map_manifold(bodies, margin, field, static, i, rest_speed, in_pair, found, k):
+    """Record as found[k] the manifold of circle i with the collision map (field) if it holds it
+    (_held_by_static): its gap is the map's distance at the centre less the radius, its normal
+    the map's; j = -1, wall = `static` (the map's number: N_WALLS + the number of segments).
+    Returns the new record count (the caller makes the room)."""
     d, nx, ny = map_sample(field, bodies.positions[i, 0], bodies.positions[i, 1])   # normal: out of the map
     if nx == 0.0 and ny == 0.0:
         return k   # no normal (deep in the solid, or on a ridge): the map's push-out takes it
-    return _held_by_static(bodies, margin, i, nx, ny, d - bodies.radii[i], static, found, k)
+    return _held_by_static(bodies, margin, i, nx, ny, d - bodies.radii[i], static, rest_speed, in_pair, found, k)
 
 
 @uncounted
-def _held_by_static(bodies, margin, i, nx, ny, gap, static, found, k):
+def _held_by_static(bodies, margin, i, nx, ny, gap, static, rest_speed, in_pair, found, k):
     """Record circle i's manifold with a static at `gap` along (nx, ny) (from the static to the
-    centre) if the gap is within its margin. Returns the new count."""
+    centre) if the static holds it, by the rule of a circle and a wall (wall_manifolds): within
+    its margin, and either meeting it slower than the rest speed (resting, rolling or sliding
+    along it) or in a pair's manifold; a lone fast impact is left to the static's exact bounce
+    (response/statics.py, response/map.py). Returns the new count."""
+    positions, velocities = bodies.positions, bodies.velocities
     if gap >= margin[i]:
         return k
-    positions = bodies.positions
+    if -(velocities[i, 0] * nx + velocities[i, 1] * ny) > rest_speed and not in_pair[i]:
+        return k
     reach = bodies.radii[i] + 0.5 * gap   # midway between the circle and the static
     m = (-nx, -ny, 1, -gap, positions[i, 0] - reach * nx, positions[i, 1] - reach * ny, 0.0, 0.0, 0.0)
     return _record(found, k, i, -1, static, margin[i], 0.0, m)
