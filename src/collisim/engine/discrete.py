@@ -44,7 +44,7 @@ from .integrate import integrate
 from .profile import Profile, cycles
 from .sleep_paths import carry, doze, keep_touching, remember_sleepers, still, wake
 from .statics_paths import (circle_map_rows, circle_segment_rows, keep_start, map_number, mark_held, settle_in_map,
-                            statics_phase, statics_scratch)
+                            static_kind, statics_phase, statics_scratch)
 
 INTEGRATE, BROAD, NARROW, RESPONSE, STATICS, SETTLE, SLEEP, RECORD, TOTAL = range(9)
 ITERATIONS = 20   # sweeps of the contact solver per step (response/solver.py)
@@ -201,10 +201,8 @@ def _log_contacts(rows, count, log, now, frame_collisions, the_map):
                 append(log, now, PAIR, rows.i[r], rows.j[r], impulse, rows.point[r, 0], rows.point[r, 1])
                 frame_collisions[PAIR] += 1
         elif rows.hit[r] > 0.0:
-            wall = rows.wall[r]
-            kind, other = (WALL, wall) if wall < N_WALLS else (SEGMENT, wall - N_WALLS)
-            if wall == the_map:
-                kind, other = MAP, -1
+            wall, kind = rows.wall[r], static_kind(rows.wall[r], the_map)
+            other = wall if kind == WALL else -1 if kind == MAP else wall - N_WALLS
             append(log, now, kind, rows.i[r], other, impulse, rows.point[r, 0], rows.point[r, 1])
             frame_collisions[SEGMENT if kind == MAP else kind] += 1
         elif impulse > 0.0:

@@ -140,6 +140,13 @@ def map_number(segments):
     return N_WALLS + segments.shape[0]
 
 
+@uncounted
+def static_kind(wall, the_map):
+    """What a row's static number (rows.wall) names: WALL (a side), SEGMENT (N_WALLS + its
+    number) or MAP (the_map, map_number's)."""
+    return WALL if wall < N_WALLS else MAP if wall == the_map else SEGMENT
+
+
 @overload(circle_map_rows)
 def _circle_map_rows(bodies, statics, margin, in_pair, found, k, asleep):
     if _lacks(statics, "map"):
@@ -226,9 +233,8 @@ def mark_held(rows, count, held, the_map):
     held[:] = False
     for r in range(count):
         if rows.j[r] < 0 and rows.impulse[r] > 0.0:
-            wall = rows.wall[r]
-            column = wall // 2 if wall < N_WALLS else HELD_BY_MAP if wall == the_map else HELD_BY_SEGMENT
-            held[rows.i[r], column] = True
+            wall, kind = rows.wall[r], static_kind(rows.wall[r], the_map)
+            held[rows.i[r], wall // 2 if kind == WALL else HELD_BY_MAP if kind == MAP else HELD_BY_SEGMENT] = True
 
 
 @njit(cache=True)

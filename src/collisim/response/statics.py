@@ -126,8 +126,14 @@ def bounce_off_segment(positions, velocities, radii, masses, segments, i, s, res
         return 0.0, qx, qy
     velocities[i, 0] -= (1.0 + restitution) * vn * nx
     velocities[i, 1] -= (1.0 + restitution) * vn * ny
-    positions[i, 0], positions[i, 1] = qx + radii[i] * nx, qy + radii[i] * ny
+    _place_on_segment(positions, radii, i, nx, ny, qx, qy)
     return masses[i] * (1.0 + restitution) * -vn, qx, qy
+
+
+@njit(cache=True, error_model="numpy")
+def _place_on_segment(positions, radii, i, nx, ny, qx, qy):
+    """Put body i at exactly its radius from the segment's closest point q, along n."""
+    positions[i, 0], positions[i, 1] = qx + radii[i] * nx, qy + radii[i] * ny
 
 
 @njit(cache=True, error_model="numpy")
@@ -136,4 +142,4 @@ def put_on_segment(positions, radii, segments, i, s):
     its radius from it where rounding left it inside (positions only: no bounce)."""
     nx, ny, depth, qx, qy = circle_segment(positions, radii, i, segments, s)
     if depth > 0.0:
-        positions[i, 0], positions[i, 1] = qx + radii[i] * nx, qy + radii[i] * ny
+        _place_on_segment(positions, radii, i, nx, ny, qx, qy)
