@@ -31,8 +31,7 @@ def velocity_tip(state):
 
 
 def bounce_count(state):
-    """The engine's running count (state.events holds only the current block's collisions; with
-    one body every collision is a wall contact)."""
+    """The engine's running count (with one body every collision is a wall contact)."""
     return f"wall contacts found by the engine so far: {state.total_collisions}"
 
 

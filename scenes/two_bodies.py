@@ -44,7 +44,7 @@ def velocities(world, state, impulse):
     since nothing acts on them until they meet (no gravity, no wall reached first). After: read at
     the impact's sample, the first time it is asked (the freeze holds that sample); the answer is
     kept, since later samples have moved on (velocities changed by walls)."""
-    key = id(world)   # the first impact only: a later block's events may hold a later one
+    key = id(world)
     if key not in _AT_IMPACT:
         after1, after2 = state.velocities[0].copy(), state.velocities[1].copy()
         _AT_IMPACT[key] = (world.velocities[0].copy(), world.velocities[1].copy()), (after1, after2)

@@ -170,3 +170,23 @@ def test_events_between_is_the_time_window_of_a_run_s_events():
             mask = (events.time > lo) & (events.time <= hi)
             for name in ("time", "kind", "i", "j", "impulse", "point"):
                 np.testing.assert_array_equal(getattr(window, name), getattr(events, name)[mask])
+
+
+@pytest.mark.parametrize("block", [1, 7, 64])
+def test_a_player_s_past_events_are_the_whole_run_s_whatever_the_blocks(block):
+    """What an overlay reads in state.events after many blocks is what the run's Trajectory holds."""
+    from collisim.engine import stream
+    from collisim.model.trajectory import PastEvents
+    scene = collisim.load_scene("particles_250").replace(seconds=1.0)
+    whole = collisim.simulate(scene).events
+    past, capped = PastEvents(), PastEvents(cap=len(whole) // 3)
+    for part in stream(scene, block=block):
+        past.add(part.events)
+        capped.add(part.events)
+    assert len(whole) > 100
+    middle = float(whole.time[len(whole) // 2])
+    upto = int(np.searchsorted(whole.time, middle, side="right"))
+    for name in ("time", "kind", "i", "j", "impulse", "point"):
+        np.testing.assert_array_equal(getattr(past.up_to(np.inf), name), getattr(whole, name))
+        np.testing.assert_array_equal(getattr(past.up_to(middle), name), getattr(whole, name)[:upto])
+        np.testing.assert_array_equal(getattr(capped.up_to(np.inf), name), getattr(whole, name)[:len(whole) // 3])

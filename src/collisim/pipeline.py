@@ -20,6 +20,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from .engine import stream
+from .engine.ahead import Ahead
 from .interrupts import ctrl_c_safe
 from .io.formats import check_format, output_target
 from .io.sequence import check_sequence_folder
@@ -49,7 +50,7 @@ def scene_chapters(scene: Scene, fps: float | None = None) -> list:
     if scene.chapters:
         return [chapter for part in scene.chapters for chapter in scene_chapters(part, fps)]
     panels = [(p.scene, p.title) for p in scene.panels] or [(scene, "")]
-    sources = [PanelSource(lambda s=s: stream(s), s.render, title, s.frames, s.fps) for s, title in panels]
+    sources = [PanelSource(lambda s=s: Ahead(stream(s)), s.render, title, s.frames, s.fps) for s, title in panels]
     return [Chapter(sources, video_frames(video_seconds(scene), fps), scene.render.layout)]
 
 

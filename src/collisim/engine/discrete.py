@@ -210,7 +210,7 @@ def _log_contacts(rows, count, log, now, frame_collisions, the_map):
     return log
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)   # engine/ahead.py runs blocks on a thread of their own
 def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log, memory, contacts, work,
                phase_cycles):
     """Advance bodies in place by out's frame count, each frame `substeps` steps of dt, filling

@@ -8,7 +8,7 @@ import numpy as np
 
 from ..interrupts import ctrl_c_safe
 from ..model.scene import Scene
-from ..model.trajectory import Events, Trajectory, approximate_summary
+from ..model.trajectory import MAX_EVENTS, Events, Trajectory, approximate_summary
 from ..narrowphase.hierarchy import world_counts
 from .ccd.stepper import CCDStepper
 from .discrete import DiscreteStepper, Frames
@@ -21,7 +21,6 @@ METHODS = {
 }
 
 
-MAX_EVENTS = 10_000_000   # about 500 MB of event log; the per-frame counts are always complete
 BLOCK_FRAMES = 64         # frames a stepper advances per call...
 BLOCK_BYTES = 32 * 2**20  # ...unless that many frames of positions and velocities take more room than this
 

@@ -74,6 +74,41 @@ class Events:
         return len(self.time)
 
 
+MAX_EVENTS = 10_000_000   # events a run keeps (about 500 MB); the per-frame counts are always complete
+
+
+class PastEvents:
+    """A run's events so far, grown block by block as a player plays a stream: what the
+    Trajectory of the whole run would hold in `events` (its first MAX_EVENTS), read up to a
+    time. Blocks come in time order, each in canonical order, so appending keeps the order."""
+
+    def __init__(self, cap: int = MAX_EVENTS):
+        self.cap, self.size = cap, 0
+        self._arrays = Events.empty()
+
+    def add(self, events: Events) -> None:
+        count = min(len(events), self.cap - self.size)
+        if count <= 0:
+            return
+        if self.size + count > len(self._arrays):   # room for at least twice as many
+            room = max(2 * len(self._arrays), self.size + count, 64)
+            self._arrays = Events(*(_grown(getattr(self._arrays, name), room, self.size) for name in _EVENT_FIELDS))
+        for name in _EVENT_FIELDS:
+            getattr(self._arrays, name)[self.size:self.size + count] = getattr(events, name)[:count]
+        self.size += count
+
+    def up_to(self, time: float) -> Events:
+        """The events with time <= `time`, as views."""
+        kept = self._arrays.take(slice(0, self.size))
+        return kept.take(slice(0, int(np.searchsorted(kept.time, time, side="right"))))
+
+
+def _grown(array: np.ndarray, room: int, keep: int) -> np.ndarray:
+    grown = np.empty((room,) + array.shape[1:], array.dtype)
+    grown[:keep] = array[:keep]
+    return grown
+
+
 @dataclass
 class Trajectory:
     """The state at every frame time t = 0, 1/fps, ..., seconds (F = frames + 1 samples).

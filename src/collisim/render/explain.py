@@ -114,8 +114,7 @@ class Explainer:
         """1 while the item shows, 0 outside, fading in and out over `fade`. An item's start
         and end are seconds, or functions of the frame's state giving seconds (None: not yet),
         so an item can wait for what the engine found, e.g. the first bounce in state.events;
-        the first time such a function answers, its answer is kept (state.events holds only
-        the current block's collisions)."""
+        the first time such a function answers, its answer is kept."""
         start, end = self._moment(item, "start", state), self._moment(item, "end", state)
         time = state.clock if self.clock == "video" else state.time
         if self.fade <= 0:

@@ -17,7 +17,7 @@ import numpy as np
 from .. import palette
 from ..model.kinds import CIRCLE, SUPPORT
 from ..model.scene import RenderSettings
-from ..model.trajectory import Events, approximate_summary
+from ..model.trajectory import Events, PastEvents, approximate_summary
 from . import explain, raster
 from .hud import draw_hud, hud_lines
 from .view import View
@@ -33,8 +33,9 @@ class FrameState:
 
     positions, velocities: (n, 2); angles: (n,); candidates, pair_collisions: of this sample;
     total_collisions: all collisions so far; approximate_frames: samples so far that the method
-    could not finish exactly (Trajectory.approximate); events: the collisions of the sample's
-    block up to its time (Events); counters: the running RenderSettings.counters; hierarchy (4,):
+    could not finish exactly (Trajectory.approximate); events: the run's collisions up to the
+    sample's time (Events; the first MAX_EVENTS, as Trajectory.events keeps them; for a panel
+    with no overlay, explainer or counters, only those of the sample's block); counters: the running RenderSettings.counters; hierarchy (4,):
     the sample's pairs passing each bounding volume level (Trajectory.hierarchy), or None."""
     time: float
     sample: int
@@ -102,6 +103,12 @@ class PanelPlayer:
         self._first, self._sample, self._collisions, self.approximate_frames = 0, -1, 0, 0
         self._history = deque(maxlen=max(self.settings.trails, 1))
         self._recent = [self._block.events]
+        # the run's events so far, for what reads state.events (overlays, explainers, counters);
+        # without them, a panel holds only its current block's, however long the video
+        settings = self.settings
+        self._past = PastEvents() if settings.overlay or settings.explainer or settings.counters else None
+        if self._past is not None:
+            self._past.add(self._block.events)
         self._counters = dict.fromkeys(self.settings.counters, 0)
         self.state = None
         self.pace, self.clock = self.settings.pace, 0.0   # render/pace.py: slow motion, freezes
@@ -116,6 +123,18 @@ class PanelPlayer:
     @property
     def profile(self) -> dict:
         return self._block.profile
+
+    @property
+    def waited(self) -> float:
+        """Seconds spent waiting for the engine's blocks (engine/ahead.py computes them on a
+        thread of their own; 0 for a trajectory played whole)."""
+        return getattr(self._blocks, "waited", 0.0)
+
+    def close(self) -> None:
+        """Stop the engine computing blocks this panel will not play."""
+        close = getattr(self._blocks, "close", None)
+        if close is not None:
+            close()
 
     @property
     def warnings(self) -> list:
@@ -149,11 +168,14 @@ class PanelPlayer:
             self._first += len(self._block.times)
             self._block = next(self._blocks)
             self._recent = self._recent[-1:] + [self._block.events]
+            if self._past is not None:
+                self._past.add(self._block.events)
         return sample - self._first
 
     def _state(self, row: int) -> FrameState:
         b = self._block
-        past = b.events.between(-np.inf, b.times[row] + 1e-12)
+        now = b.times[row] + 1e-12
+        past = b.events.between(-np.inf, now) if self._past is None else self._past.up_to(now)
         return FrameState(float(b.times[row]), self._sample, b.positions[row], b.velocities[row], b.angles[row],
                           int(b.candidates[row]), int(b.pair_collisions[row]), self._collisions,
                           self.approximate_frames, past, hierarchy=b.hierarchy[row])
@@ -250,6 +272,8 @@ class Timeline:
         index = min(int(np.searchsorted(self.starts, frame, side="right")) - 1, len(self.chapters) - 1)
         chapter = self.chapters[index]
         if index != self._index:
+            for player in self._players:
+                player.close()
             self._finished.extend(self._players)
             self._index, self._players = index, make_players(chapter, self.size, self.fps)
         local = min(frame - int(self.starts[index]), chapter.frames - 1)
@@ -264,6 +288,15 @@ class Timeline:
         parts = [approximate_summary(p.approximate_frames, p.source.frames, p.title or "the scene",
                                      p.warnings) for p in players]
         return "; ".join(parts)
+
+    def close(self) -> None:
+        """Stop the engine for every panel (at the end of a render, or when it is cut short)."""
+        for player in self._finished + self._players:
+            player.close()
+
+    def waited(self) -> float:
+        """Seconds the players spent waiting for the engine's blocks."""
+        return sum(player.waited for player in self._finished + self._players)
 
     def profile(self) -> dict:
         total = {}

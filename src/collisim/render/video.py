@@ -19,6 +19,7 @@ from numba.core import event as numba_event
 from .. import palette
 from ..io.writers import open_writer, write_png
 from ..model.validate import number
+from . import splat
 from .player import Timeline
 from .raster import bgr
 
@@ -243,7 +244,8 @@ def _play(chapters, fps, frames, path, size, codec, quality, png_frame, transpar
             else:
                 draw_seconds = 0.0
                 with open_writer(codec, path, fps, size, quality, transparent=transparent,
-                                 background=background_bgr, name=name, frames=frames) as video:
+                                 background=background_bgr, name=name, frames=frames) as video, \
+                        splat.on_one_thread():
                     for frame in range(frames):
                         canvas = video.frame_buffer()
                         start = time.perf_counter()
@@ -252,12 +254,12 @@ def _play(chapters, fps, frames, path, size, codec, quality, png_frame, transpar
                         video.write(canvas)
                         progress.step(frames, path.name)
         finally:
+            timeline.close()
             progress.close()
     if profile is not None and png_frame is None:
-        for phase, seconds in timeline.profile().items():
+        for phase, seconds in timeline.profile().items():   # on the engine's thread (engine/ahead.py)
             profile[phase] = profile.get(phase, 0.0) + seconds
-        simulated = sum(profile.values())
-        profile["draw"] = draw_seconds - simulated  # drawing includes pulling streamed blocks from the engine
+        profile["draw"] = draw_seconds - timeline.waited()  # less the time the engine kept the drawing waiting
         profile["encode"] = video.encode_seconds  # on the encoder's thread, overlapping the drawing
     summary = timeline.approximate_summary()
     if summary:

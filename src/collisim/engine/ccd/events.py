@@ -175,7 +175,7 @@ def run(loop, frame_dt, first, count, budget, positions, velocities, counts, ove
     return _run(loop, loop.resting, frame_dt, first, count, budget, positions, velocities, counts, over_budget)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, nogil=True, error_model="numpy")   # engine/ahead.py: blocks on their own thread
 def _run(loop, resting, frame_dt, first, count, budget, positions, velocities, counts, over_budget):
     """run, with loop.resting as an argument: None prunes (before typing) every branch that
     `resting is not None` guards, so that they never compile (EventLoop)."""
