@@ -42,17 +42,18 @@ class Ghosts:
     while each sample is held on screen."""
 
     def __init__(self, fps):
-        self.fps, self.samples = fps, {}
+        self.fps = fps
 
     def __call__(self, canvas, view, state):
-        self.samples[state.sample] = state.positions[0].copy()
-        recent = [self.samples[k] for k in sorted(self.samples)][-self.fps:]
+        samples = state.memory.setdefault("ghosts", {})   # sample -> position, for this play only
+        samples[state.sample] = state.positions[0].copy()
+        recent = [samples[k] for k in sorted(samples)][-self.fps:]
         radius = view.length(RADIUS)
         raster.draw_rings(canvas, view.to_pixels(np.array(recent)), np.full(len(recent), radius),
                           palette.DIM_TEXT, 1)
         ab_labels(canvas, view, state)
-        if state.sample >= 1 and state.sample - 1 in self.samples:
-            p0, p1 = self.samples[state.sample - 1], self.samples[state.sample]
+        if state.sample >= 1 and state.sample - 1 in samples:
+            p0, p1 = samples[state.sample - 1], samples[state.sample]
             t = (state.clock * self.fps) % 1.0          # how far through the hold of this sample
             between = (1.0 - t) * p0 + t * p1
             raster.draw_rings(canvas, view.to_pixels(between[None]), [radius], palette.HIGHLIGHT, 2)

@@ -45,7 +45,6 @@ class RaysOverlay:
 
     def __init__(self, world: collisim.World, fps: float):
         self.world, self.dt = world, 1.0 / fps
-        self.hits = {}          # launch -> (time, point, normal) of the missile's first hit
 
     def __call__(self, canvas, view, state):
         world = self.world
@@ -65,15 +64,16 @@ class RaysOverlay:
     def _missile(self, canvas, view, state):
         launch = int(state.time // LAUNCH_EVERY)
         start_time, start, velocity = missile_path(launch)
-        if launch not in self.hits and state.time > start_time:
+        hits = state.memory.setdefault("missile hits", {})   # launch -> (time, point, normal) of its first hit
+        if launch not in hits and state.time > start_time:
             # the ray of the step that ended now: from where the missile was one frame ago
             before = start + velocity * max(state.time - self.dt - start_time, 0.0)
             step = velocity * (state.time - start_time) - (before - start)
             hit = collisim.raycast(self.world, before, step, float(np.hypot(*step)), positions=state.positions)
             if hit is not None and hit.kind == "body":
-                self.hits[launch] = (state.time, hit.point, hit.normal)
-        if launch in self.hits:
-            when, point, normal = self.hits[launch]
+                hits[launch] = (state.time, hit.point, hit.normal)
+        if launch in hits:
+            when, point, normal = hits[launch]
             age = state.time - when
             raster.draw_rings(canvas, view.to_pixels(point[None]), [4.0 + 40.0 * age], palette.FLASH, 2)
             raster.draw_lines(canvas, view, [point], [point + 1.5 * normal], palette.FLASH, 2)

@@ -43,15 +43,12 @@ def velocities(world, state, impulse):
     """((v1, v2) before, (v1, v2) after) the first impact. Before: the velocities they start with,
     since nothing acts on them until they meet (no gravity, no wall reached first). After: read at
     the impact's sample, the first time it is asked (the freeze holds that sample); the answer is
-    kept, since later samples have moved on (velocities changed by walls)."""
-    key = id(world)
-    if key not in _AT_IMPACT:
+    kept for the rest of the play (state.memory), since later samples have moved on (velocities
+    changed by walls)."""
+    if "velocities at impact" not in state.memory:
         after1, after2 = state.velocities[0].copy(), state.velocities[1].copy()
-        _AT_IMPACT[key] = (world.velocities[0].copy(), world.velocities[1].copy()), (after1, after2)
-    return _AT_IMPACT[key]
-
-
-_AT_IMPACT = {}
+        state.memory["velocities at impact"] = (world.velocities[0].copy(), world.velocities[1].copy()), (after1, after2)
+    return state.memory["velocities at impact"]
 
 
 def split(world):

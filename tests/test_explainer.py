@@ -74,10 +74,16 @@ def test_an_item_can_wait_for_an_event_and_keeps_its_moment():
 
     class State:
         time = 5.0
-    assert layer.opacity(item, State()) == 0.0      # not yet
-    assert layer.opacity(item, State()) == 0.0
-    assert layer.opacity(item, State()) == 1.0      # the event happened at 3.0
-    assert layer.opacity(item, State()) == 1.0      # and stays known in later blocks
+
+        def __init__(self, memory):
+            self.memory = memory   # the panel's, kept for its play (FrameState.memory)
+    play = {}
+    assert layer.opacity(item, State(play)) == 0.0      # not yet
+    assert layer.opacity(item, State(play)) == 0.0
+    assert layer.opacity(item, State(play)) == 1.0      # the event happened at 3.0
+    assert layer.opacity(item, State(play)) == 1.0      # and stays known for the rest of the play
+    answers = iter([None])
+    assert layer.opacity(item, State({})) == 0.0        # another play asks again
 
 
 def test_a_long_caption_shrinks_to_its_strip():

@@ -101,7 +101,6 @@ class Explainer:
     side: float = 0.0
     clock: str = "simulation"    # items' times in "simulation" seconds, or "video" seconds (freezes)
     drawn: list = field(default_factory=list, repr=False)
-    _latched: dict = field(default_factory=dict, repr=False)
 
     def strips(self) -> tuple:
         """(top lines, bottom lines) the panel must reserve."""
@@ -127,13 +126,13 @@ class Explainer:
         value = getattr(item, name)
         if not callable(value):
             return moment(value, state)
-        key = (id(item), name)
-        if key not in self._latched:
+        key = ("explainer moment", id(item), name)   # kept for the panel's play, not beyond it
+        if key not in state.memory:
             found = value(state)
             if found is None:
                 return math.inf
-            self._latched[key] = float(found)
-        return self._latched[key]
+            state.memory[key] = float(found)
+        return state.memory[key]
 
     def draw(self, canvas, view, state, world, strip_rects: dict, unit: float) -> None:
         """Draw every item visible at state.time. strip_rects: {"top"|"bottom": (x, y, w, h)};

@@ -36,7 +36,10 @@ class FrameState:
     could not finish exactly (Trajectory.approximate); events: the run's collisions up to the
     sample's time (Events; the first MAX_EVENTS, as Trajectory.events keeps them; for a panel
     with no overlay, explainer or counters, only those of the sample's block); counters: the running RenderSettings.counters; hierarchy (4,):
-    the sample's pairs passing each bounding volume level (Trajectory.hierarchy), or None."""
+    the sample's pairs passing each bounding volume level (Trajectory.hierarchy), or None;
+    memory: a dict kept for the panel's whole play (the same at every sample, new for every
+    play), where an explainer keeps the moments its functions answered first and a scene's
+    functions may keep what they read once (a velocity at the impact's sample)."""
     time: float
     sample: int
     positions: np.ndarray
@@ -50,6 +53,7 @@ class FrameState:
     counters: dict = field(default_factory=dict)
     clock: float = 0.0   # seconds of video into the panel (differs from time in slow motion and freezes)
     hierarchy: np.ndarray = None
+    memory: dict = field(default_factory=dict)
 
 
 @dataclass
@@ -110,6 +114,7 @@ class PanelPlayer:
         if self._past is not None:
             self._past.add(self._block.events)
         self._counters = dict.fromkeys(self.settings.counters, 0)
+        self._memory = {}   # FrameState.memory
         self.state = None
         self.pace, self.clock = self.settings.pace, 0.0   # render/pace.py: slow motion, freezes
         # the last sample the video shows, so the HUD's last frame reads "frame N/N"
@@ -167,7 +172,7 @@ class PanelPlayer:
         while sample >= self._first + len(self._block.times):
             self._first += len(self._block.times)
             self._block = next(self._blocks)
-            self._recent = self._recent[-1:] + [self._block.events]
+            self._recent = self._flashing(self._recent) + [self._block.events]
             if self._past is not None:
                 self._past.add(self._block.events)
         return sample - self._first
@@ -178,7 +183,7 @@ class PanelPlayer:
         past = b.events.between(-np.inf, now) if self._past is None else self._past.up_to(now)
         return FrameState(float(b.times[row]), self._sample, b.positions[row], b.velocities[row], b.angles[row],
                           int(b.candidates[row]), int(b.pair_collisions[row]), self._collisions,
-                          self.approximate_frames, past, hierarchy=b.hierarchy[row])
+                          self.approximate_frames, past, hierarchy=b.hierarchy[row], memory=self._memory)
 
     def draw(self, canvas) -> None:
         world, settings, state = self.world, self.settings, self.state
@@ -217,6 +222,13 @@ class PanelPlayer:
         if settings.hud:
             lines = hud_lines(self._block, self.last_sample, state, compact=self.rect[2] < 800)
             draw_hud(canvas, self.content, lines, self.text_scale)
+
+    def _flashing(self, blocks: list) -> list:
+        """The blocks of events that may still flash when the next block starts: those with an
+        event within FLASH_SECONDS of the current block's first sample (a block may be one
+        frame long: a million bodies stream one frame a block)."""
+        since = self._block.times[0] - FLASH_SECONDS
+        return [events for events in blocks if len(events) and events.time[-1] >= since]
 
     def _draw_flashes(self, canvas, clip, now: float) -> None:
         """A ring growing from each fresh impact's contact point, clipped to the box's pixels
