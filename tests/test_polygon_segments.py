@@ -95,3 +95,37 @@ def test_polygons_and_segments_meet_but_polygons_and_a_map_are_still_one_line():
     solid_top = collisim.CollisionMap.from_image(image, cell=0.5)
     with pytest.raises(ValueError, match="collision maps"):
         World([(5, 5)], polygons=[box(1, 1)], map=solid_top, box=(0, 0, 10, 10))
+
+
+@pytest.mark.parametrize("angle", [0.001, 0.003, -0.01])
+def test_a_tilted_box_on_a_segment_has_the_manifold_of_the_same_line_as_a_wall(angle):
+    """One corner a hair into the segment, the other raised within the margin: both points, as
+    the floor's half-plane gives them (with the deepest corner alone, a box rocked and sank)."""
+    from collisim.narrowphase.manifold import polygon_wall_manifold
+    c, s = np.cos(angle), np.sin(angle)
+    shape = np.asarray(box(1.0, 0.5)) @ np.array([[c, s], [-s, c]])
+    lowest = shape[:, 1].min()
+    start = np.array([0, len(shape)])
+    on_segment = shape + (5.0, 1.0 - lowest - 0.001)
+    m = polygon_segment_manifold(on_segment, start, 0, np.array([[1.0, 1.0, 9.0, 1.0]]), 0, 0.05)
+    wall = polygon_wall_manifold(on_segment - (0.0, 1.0), start, 0, np.array([0.0, 0.0, 10.0, 10.0]), 2, 0.05)
+    assert m[2] == wall[2] == 2
+    raised = sorted(on_segment[:, 1] - 1.0)[1]    # the raised bottom corner's height over the segment
+    np.testing.assert_allclose(sorted([m[3], m[6]]), sorted([0.001, -raised]), atol=1e-9)
+    np.testing.assert_allclose(sorted([m[3], m[6]]), sorted([wall[3], wall[6]]), atol=1e-9)
+
+
+@pytest.mark.parametrize("fps", [30, 60])
+def test_a_column_of_boxes_rests_on_a_segment_as_on_the_floor(fps):
+    h, n = 0.5, 6
+    heights = [h / 2 + k * h * 1.001 for k in range(n)]
+
+    def column(floor):
+        segments = [[1.0, floor, 9.0, floor]] if floor else None
+        world = World([(5.0, floor + y) for y in heights], polygons=[box(1.0, h)] * n, box=(0, 0, 10, 10),
+                      gravity=(0, -G), restitution=0.0, friction=0.5, segments=segments)
+        return run(world, 4.0, fps).positions - (0.0, floor)
+
+    on_segment, on_floor = column(1.0), column(0.0)
+    assert np.abs(on_segment[:, 0, 1] - h / 2).max() < 0.002 * h      # the bottom box does not sink
+    assert np.abs(on_segment[-1] - on_floor[-1]).max() < 0.02 * h     # and the column ends as on the floor

@@ -50,3 +50,20 @@ def test_a_vertex_over_a_face_needs_no_closest_points(near_pairs):
             found += 1
             assert -m[3] == pytest.approx(distance, rel=1e-9, abs=1e-12)
     assert found > 0.5 * sum(d < MARGIN for _, _, d in near_pairs)
+
+
+@pytest.mark.parametrize("angle", [0.002, -0.02])
+def test_a_tilted_box_touching_another_keeps_its_raised_corner_within_the_margin(angle):
+    """One corner a hair into the box below, the other raised by less than the margin: two
+    points, the second as far apart as the raised corner is (Box2D keeps clipped points up to
+    its speculative distance, touching or not)."""
+    from collisim.shapes import box
+    c, s = np.cos(angle), np.sin(angle)
+    top = np.asarray(box(1.0, 0.5)) @ np.array([[c, s], [-s, c]])
+    top = np.ascontiguousarray(top + (0.0, 0.25 - top[:, 1].min() - 0.001))
+    below = np.ascontiguousarray(np.asarray(box(2.0, 0.5), float))
+    raised = sorted(top[:, 1] - 0.25)[1]
+    assert 0.0 < raised < MARGIN
+    m = _polygons(top, below, MARGIN)
+    assert m[2] == 2
+    np.testing.assert_allclose(sorted([m[3], m[6]]), sorted([0.001, -raised]), atol=1e-9)

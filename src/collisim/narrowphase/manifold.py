@@ -124,9 +124,13 @@ def polygon_segment_manifold(vertices, start, i, segments, k, margin):
         return NONE
     # Taken where the segment overlaps the polygon by a hair, then moved back: at an exact
     # touch, rounding leaves a long segment's face points a hair outside the polygon's face,
-    # and the clipping would keep neither.
+    # and the clipping would keep neither. (Moved in by the whole margin instead, a segment
+    # ending inside the margin could turn the normal sideways.) The raised end of a tilted
+    # face within the margin is kept, as the walls' half-planes keep it: with the deepest
+    # corner alone, a box resting on a segment rocked on it and sank.
     back = gap + TOUCH * (1.0 + max(abs(x0), abs(y0), abs(x1), abs(y1)))
-    touching = polygon_segment(a, x0 - back * m[0], y0 - back * m[1], x1 - back * m[0], y1 - back * m[1])
+    touching = polygon_segment(a, x0 - back * m[0], y0 - back * m[1], x1 - back * m[0], y1 - back * m[1],
+                               max(margin - back, 0.0))
     if touching[2] == 0:
         return NONE
     return _given_back(touching, back)

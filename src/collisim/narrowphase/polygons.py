@@ -218,13 +218,15 @@ def _two_points(nx, ny, px, py, depth_p, qx, qy, depth_q, reach):
 
 
 @njit(cache=True, error_model="numpy")
-def polygon_polygon(a, b, beyond=np.inf):
+def polygon_polygon(a, b, beyond=np.inf, reach=0.0):
     """The manifold of convex polygons a (ka, 2) and b (kb, 2), world frame, counter-clockwise
     (see the module docstring). The reference face is a's unless one of b's is less deep by
     more than FACE_TOLERANCE. Polygons an axis separates by `beyond` (> 0) or more are not
     measured further (their distance is at least that, and finding it costs every vertex against
-    every edge): count 0 and depth0 = -(that separation)."""
-    return _polygons_manifold(a, b, beyond, False)
+    every edge): count 0 and depth0 = -(that separation). Of two points on the incident edge,
+    the shallower is kept if no more than `reach` apart (a tilted face resting on another: the
+    raised end's speculative point)."""
+    return _polygons_manifold(a, b, beyond, False, reach)
 
 
 @njit(cache=True, error_model="numpy")
@@ -238,7 +240,7 @@ def speculative_polygons(a, b, margin):
     vertex against every edge) nor a second test is needed. Closer than `margin` otherwise
     (corner against corner): one point, midway between the closest points, depth -distance.
     Farther: as polygon_polygon."""
-    return _polygons_manifold(a, b, margin, True)
+    return _polygons_manifold(a, b, margin, True, margin)
 
 
 @uncounted
@@ -251,7 +253,7 @@ def _over_face(ref, face, p):
 
 
 @uncounted
-def _polygons_manifold(a, b, beyond, speculative):
+def _polygons_manifold(a, b, beyond, speculative, reach):
     separation_a, face_a, deepest_b = _max_separation(a, b)
     separation_b, face_b, deepest_a = _max_separation(b, a)
     separation = max(separation_a, separation_b)
@@ -291,7 +293,7 @@ def _polygons_manifold(a, b, beyond, speculative):
         nx, ny = -nx, -ny                           # the normal runs from a to b
     # apart, both points within the margin count (speculative points act only if the step would
     # close their gap, as in Box2D; the walls' manifolds keep theirs so too)
-    return _two_points(nx, ny, px, py, depth_p, qx, qy, depth_q, beyond if gap > 0.0 else 0.0)
+    return _two_points(nx, ny, px, py, depth_p, qx, qy, depth_q, beyond if gap > 0.0 else reach)
 
 
 @uncounted
@@ -347,16 +349,17 @@ def polygon_circle(a, cx, cy, r):
 
 
 @njit(cache=True, error_model="numpy")
-def polygon_segment(a, x0, y0, x1, y1):
+def polygon_segment(a, x0, y0, x1, y1, reach=0.0):
     """The manifold of convex polygon a (k, 2) and the thin segment (x0, y0)-(x1, y1): normal
-    from the polygon towards the segment, up to two points. The segment is the degenerate
-    two-sided polygon [(x0, y0), (x1, y1)], whose two edges face opposite ways; a segment of
-    no length is a point (a circle of radius 0)."""
+    from the polygon towards the segment, up to two points (the second kept if no more than
+    `reach` apart, as polygon_polygon's). The segment is the degenerate two-sided polygon
+    [(x0, y0), (x1, y1)], whose two edges face opposite ways; a segment of no length is a point
+    (a circle of radius 0)."""
     if x0 == x1 and y0 == y1:
         return polygon_circle(a, x0, y0, 0.0)
     segment = np.empty((2, 2))
     segment[0, 0], segment[0, 1], segment[1, 0], segment[1, 1] = x0, y0, x1, y1
-    return polygon_polygon(a, segment)
+    return polygon_polygon(a, segment, np.inf, reach)
 
 
 @njit(cache=True, error_model="numpy")
