@@ -67,7 +67,7 @@ BAD_SCENES = {
                      "velocities contains NaN or inf"),
     "radius": ("return collisim.Scene(world=collisim.World(positions=[[5, 5]], radii=0.0))", "radius must be > 0"),
     "mass": ("return collisim.Scene(world=collisim.World(positions=[[5, 5]], masses=[-1.0]))", "mass must be > 0"),
-    "outside": ("return collisim.Scene(world=collisim.World(positions=[[11, 5]]))", "outside the box"),
+    "outside": ("return collisim.Scene(world=collisim.World(positions=[[11, 5]]))", "beyond the box's right wall"),
     "too large": ("return collisim.Scene(world=collisim.World(positions=[[5, 5]], radii=6))", "larger than the box"),
     "fps": ("return collisim.Scene(world=collisim.World(positions=[[5, 5]]), fps=0)", "fps must be a finite number > 0"),
     "seconds": ("return collisim.Scene(world=collisim.World(positions=[[5, 5]]), seconds=-1)",

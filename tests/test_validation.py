@@ -23,6 +23,11 @@ BAD_WORLDS = {
     "NaN velocity": (dict(positions=[[1, 1]], velocities=[[np.nan, 0]]), "velocities contains NaN or inf"),
     "segments of three numbers": (dict(positions=[[1, 1]], segments=[[0, 0, 1]]), r"segments must have shape \(m, 4\)"),
     "negative friction": (dict(positions=[[1, 1]], friction=-1), "friction must be >= 0, got -1"),
+    "particle through a wall": (dict(positions=[[5, 0.2]], radii=0.5),
+                                r"particle 0 \(radius 0.5\) at \(5, 0.2\) reaches 0.3 beyond the box's bottom wall"),
+    "tilted box through the floor": (dict(positions=[[5, 0.25]], polygons=[[[-0.5, -0.25], [0.5, -0.25], [0.5, 0.25],
+                                                                              [-0.5, 0.25]]], angles=[0.01]),
+                                     r"polygon 0 at \(5, 0.25\) reaches 0.00499 beyond the box's bottom wall"),
 }
 
 

@@ -144,18 +144,32 @@ class World:
         lo, hi = self.extents()
         too_big = np.flatnonzero(np.any(hi - lo > self.box[2:] - self.box[:2], axis=1))
         if too_big.size:
-            i = too_big[0]
-            raise ValueError(f"particle {i} (radius {self.radii[i]:g}) is larger than the box")
-        lo, hi = self.extents()
+            raise ValueError(f"{self._named(too_big[0])} is larger than the box")
         outside = np.any((lo < self.box[:2]) | (hi > self.box[2:]), axis=1)
         if outside.any():
             i = np.flatnonzero(outside)[0]
             x, y = self.positions[i]
-            raise ValueError(f"particle {i} at ({x:g}, {y:g}) with radius {self.radii[i]:g} is outside the box")
+            where = f"reaches {self._beyond(i, lo[i], hi[i])}"
+            raise ValueError(f"{self._named(i)} at ({x:g}, {y:g}) {where}")
         if np.any(self.shapes == POLYGON) and self.map is not None:
             raise ValueError("polygon bodies meet the box walls, segments and each other; collision maps "
                              "collide with circles only: leave the map out of a world with polygons")
         validate.no_overlaps(self)
+
+    def _named(self, i: int) -> str:
+        """A body as an error names it: a particle by its radius, a polygon as one."""
+        if self.shapes[i] == POLYGON:
+            return f"polygon {i}"
+        return f"particle {i} (radius {self.radii[i]:g})"
+
+    def _beyond(self, i: int, lo, hi) -> str:
+        """Which wall a body's extent (lo, hi) crosses, and by how much."""
+        xmin, ymin, xmax, ymax = self.box
+        for side, excess in (("left", xmin - lo[0]), ("right", hi[0] - xmax), ("bottom", ymin - lo[1]),
+                             ("top", hi[1] - ymax)):
+            if excess > 0:
+                return f"{excess:.3g} beyond the box's {side} wall"
+        return "outside the box"
 
     def copy(self, **changes) -> "World":
         """A copy, with keyword changes (e.g. restitution=0.5), validated."""
