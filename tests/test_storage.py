@@ -40,6 +40,14 @@ def test_positions_storage_keeps_no_velocities(scene, exact):
         run.kinetic_energy()
 
 
+def test_velocity_arrows_of_a_positions_only_trajectory_are_refused_before_anything_is_drawn(scene, tmp_path):
+    run = collisim.simulate(scene, storage="positions")
+    with pytest.raises(ValueError, match="velocity arrows need velocities.*storage='positions'"):
+        collisim.render(run, tmp_path / "arrows.mp4", (160, 90), settings=collisim.RenderSettings(arrows=True))
+    assert list(tmp_path.iterdir()) == []
+    collisim.render(run, tmp_path / "plain.mp4", (160, 90))   # without arrows it plays
+
+
 def test_bodies_that_never_turn_store_their_angles_once(exact):
     assert np.all(exact.world.angular_velocities == 0)
     assert exact.angles.strides[0] == 0 and exact.angles.shape == (exact.frames + 1, exact.world.n)

@@ -106,6 +106,10 @@ def plan(source, size=None, *, fps=None, quality=None, settings: RenderSettings 
         if not panels or not all(isinstance(t, Trajectory) for _, t in panels):
             raise ValueError("render takes a Scene, a Trajectory, or a list of (title, Trajectory)")
         settings = settings or RenderSettings()
+        if settings.arrows and any(t.storage == "positions" for _, t in panels):
+            raise ValueError("velocity arrows need velocities, and this trajectory kept positions only "
+                             "(simulate(..., storage='positions')): render it without arrows, or simulate "
+                             "with storage='float32'")
         base, name = settings.size, name or "trajectory"
         rate = video_fps(panels[0][1].fps, fps, quality)
         chapters = trajectory_chapters(panels, settings, settings.layout, rate)

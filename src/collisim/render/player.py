@@ -313,6 +313,7 @@ class Timeline:
     def profile(self) -> dict:
         total = {}
         for player in self._finished + self._players:
-            for phase, seconds in player.profile.items():
+            # a copy taken at once: an engine thread stopped early may still be timing a phase
+            for phase, seconds in dict(player.profile).items():
                 total[phase] = total.get(phase, 0.0) + seconds
         return total
