@@ -373,8 +373,9 @@ NARROW_PACE = Pace(Slow(0.15, FIRST_TOUCH, 0.2), Freeze(FIRST_TOUCH, 3.0), Slow(
 
 def touching_now(state):
     """The pairs the engine found touching in the step that ended at this sample (its PAIR events)."""
-    now = (state.events.kind == PAIR) & (np.abs(state.events.time - state.time) < 1e-9)
-    return np.column_stack([state.events.i[now], state.events.j[now]])
+    step = state.events.between(state.time - 1e-9, state.time + 1e-9)   # found by bisection
+    pairs = step.kind == PAIR
+    return np.column_stack([step.i[pairs], step.j[pairs]])
 
 
 def narrow_caption(state):
