@@ -176,7 +176,7 @@ def cmd_render(args) -> int:
     else:
         what = f"{job.frames} frames at {job.fps:g} fps, {out.format} ({out.codec})"
     compiling = f" ({progress.compile_seconds:.1f} s compiling)" if progress.compiled else ""
-    print(f"{path}: {what}, {job.size[0]}x{job.size[1]}, {seconds:.1f} s{compiling}")
+    print(f"{path}: {what}, {job.size[0]}x{job.size[1]}, rendered in {seconds:.1f} s{compiling}")
     if profile:
         print(profile_table(profile))
     return 0
