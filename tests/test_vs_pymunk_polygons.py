@@ -120,7 +120,7 @@ def test_compare_runs_a_polygon_world_and_reports_that_ccd_cannot():
     assert by_method["ccd"]["error"] and by_method["ccd"]["cost"] is None
     for method in ("discrete x1", "pymunk x1"):
         assert by_method[method]["error"] is None and by_method[method]["energy_drift"] is not None
-    assert "ccd: could not run (ValueError: " in format_table(rows)
+    assert "ccd: could not run (method ccd covers circles, segments and maps; this scene has polygons" in format_table(rows)
     assert by_method["discrete x1"]["max_overlap"] is None   # a circle measure: n/a with polygons
 
 

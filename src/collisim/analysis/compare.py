@@ -190,7 +190,9 @@ def _timed_run(scene, engine: str, substeps: int, timed: bool = True) -> tuple:
             traj = run_method(scene, engine, substeps)
             cost = (time.perf_counter() - start) / (scene.frames / scene.fps)
     except Exception as error:   # an engine that cannot run this world is a finding, not a crash
-        return None, None, f"{type(error).__name__}: {error}".splitlines()[0]
+        # a ValueError is the engine's own refusal, in its words; anything else is named by type
+        text = str(error) if isinstance(error, ValueError) else f"{type(error).__name__}: {error}"
+        return None, None, text.splitlines()[0]
     return traj, cost, None
 
 
