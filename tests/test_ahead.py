@@ -10,7 +10,7 @@ import pytest
 
 import collisim
 from collisim.engine.ahead import Ahead
-from collisim.engine.discrete import DiscreteStepper
+from collisim.engine.simulate import METHODS
 from collisim.gas import lattice_gas
 from test_player import decoded_frames
 
@@ -115,12 +115,14 @@ def test_a_render_of_many_blocks_shows_the_frames_of_the_whole_trajectory(tmp_pa
         np.testing.assert_array_equal(x, y)
 
 
-def test_the_compiled_block_lets_other_threads_run():
+@pytest.mark.parametrize("method", ["discrete", "ccd"])
+def test_the_compiled_block_lets_other_threads_run(method):
     """Without the GIL released, the counting thread would stand still for the whole block."""
     box = (0.0, 0.0, 200.0, 200.0)
     positions, velocities, radii = lattice_gas(20_000, box=box, speed=3.0, seed=1)
     world = collisim.World(positions=positions, velocities=velocities, radii=radii, box=box)
-    stepper = DiscreteStepper(world, 60.0, broadphase="grid")
+    scene = collisim.Scene(world=world, fps=60, seconds=1.0, method=method, broadphase="grid")
+    stepper = METHODS[method](scene)
     stepper.run(1)   # compiled before the count
     counts, running = [], threading.Event()
 

@@ -3,9 +3,9 @@ while the player draws the current one and the writer encodes.
 
 A render is three kinds of work: simulating, drawing and encoding. Drawing and encoding already
 overlap (the writer encodes on a thread of its own); without this, every block the engine
-simulated stopped the drawing, and the encoder ran dry of frames while it waited. The engine's
-compiled block releases the GIL (run_frames, nogil), so the thread computes while the player's
-Python runs.
+simulated stopped the drawing, and the encoder ran dry of frames while it waited. The engines'
+compiled blocks release the GIL (discrete.run_frames and ccd's events._run are nogil), so the
+thread computes while the player's Python runs.
 
 The blocks are the very blocks `stream` yields, in order: the bytes do not depend on the thread.
 At most one block is computed ahead of the one being played, so memory holds two blocks.

@@ -239,7 +239,8 @@ def speculative_polygons(a, b, margin):
     separation (a vertex over a face is exactly that far), so neither the closest points (every
     vertex against every edge) nor a second test is needed. Closer than `margin` otherwise
     (corner against corner): one point, midway between the closest points, depth -distance.
-    Farther: as polygon_polygon."""
+    Touching or overlapping: polygon_polygon's manifold with reach = margin (a tilted face's
+    raised end is kept up to the margin apart). Farther: as polygon_polygon."""
     return _polygons_manifold(a, b, margin, True, margin)
 
 
@@ -291,8 +292,9 @@ def _polygons_manifold(a, b, beyond, speculative, reach):
     qx, qy = qx + 0.5 * depth_q * nx, qy + 0.5 * depth_q * ny
     if flip:
         nx, ny = -nx, -ny                           # the normal runs from a to b
-    # apart, both points within the margin count (speculative points act only if the step would
-    # close their gap, as in Box2D; the walls' manifolds keep theirs so too)
+    # apart, both points within the margin count, and touching, the shallower within `reach`
+    # (speculative points act only if the step would close their gap, as in Box2D, which keeps
+    # every clipped point up to its speculative distance; the walls' manifolds keep theirs so too)
     return _two_points(nx, ny, px, py, depth_p, qx, qy, depth_q, beyond if gap > 0.0 else reach)
 
 

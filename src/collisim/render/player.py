@@ -35,8 +35,9 @@ class FrameState:
     total_collisions: all collisions so far; approximate_frames: samples so far that the method
     could not finish exactly (Trajectory.approximate); events: the run's collisions up to the
     sample's time (Events; the first MAX_EVENTS, as Trajectory.events keeps them; for a panel
-    with no overlay, explainer or counters, only those of the sample's block); counters: the running RenderSettings.counters; hierarchy (4,):
-    the sample's pairs passing each bounding volume level (Trajectory.hierarchy), or None;
+    with no overlay, explainer or counters, only those of the sample's block); counters: the
+    running RenderSettings.counters; hierarchy (4,): the sample's pairs passing each bounding
+    volume level (Trajectory.hierarchy), or None;
     memory: a dict kept for the panel's whole play (the same at every sample, new for every
     play), where an explainer keeps the moments its functions answered first and a scene's
     functions may keep what they read once (a velocity at the impact's sample)."""
