@@ -10,7 +10,7 @@ import cv2
 import numpy as np
 import pytest
 
-from collisim.render import raster, splat
+from collisim.render import bands, raster, splat
 from collisim.render.splat import disc_coverage, draw_discs, ring_coverage
 
 
@@ -256,8 +256,8 @@ def test_a_clip_draws_exactly_the_clipped_pixels_of_the_whole_drawing():
 def test_the_bytes_do_not_depend_on_how_the_rows_are_split_between_threads():
     """Drawn in horizontal bands (each band every disc, clipped to its rows), in any number of
     bands, down to one row each: the same bytes as in one piece; and draw_discs, which splits
-    the rows between threads from splat.BAND_DISCS discs on, gives those bytes too."""
-    centres, radii, colors = _mixed_discs(splat.BAND_DISCS + 500, 8)
+    the rows between threads from bands.BAND_DISCS discs on, gives those bytes too."""
+    centres, radii, colors = _mixed_discs(bands.BAND_DISCS + 500, 8)
     one = np.zeros((180, 320, 3), np.uint8)
     splat.splat_discs(one, (0, 0, 320, 180), *splat._prepare(one, centres, radii, colors), 0.5)
     for rows in ([0, 180], [0, 90, 180], [0, 1, 2, 77, 78, 179, 180], list(range(0, 181, 13)) + [180]):
@@ -265,7 +265,7 @@ def test_the_bytes_do_not_depend_on_how_the_rows_are_split_between_threads():
         for top, bottom in zip(rows[:-1], rows[1:]):
             splat.splat_discs(banded, (0, top, 320, bottom), *splat._prepare(banded, centres, radii, colors), 0.5)
         np.testing.assert_array_equal(banded, one)
-    assert len(splat._bands((0, 0, 320, 180), len(centres), threads=2)) == 2
+    assert len(bands._bands((0, 0, 320, 180), len(centres), threads=2)) == 2
     threaded = np.zeros_like(one)
     draw_discs(threaded, centres, radii, colors)
     np.testing.assert_array_equal(threaded, one)
@@ -276,10 +276,15 @@ def test_the_bytes_do_not_depend_on_how_the_rows_are_split_between_threads():
     for top, bottom in ((0, 61), (61, 180)):   # each clip split into bands again (rings count 15 discs each)
         splat.draw_annuli(banded, centres, radii, 1.0, (200, 100, 50), clip=(0, top, 320, bottom))
     np.testing.assert_array_equal(banded, rings)
+    alone = np.zeros_like(one)
+    with bands.on_one_thread():     # a video render's drawing: the calling thread only, the same bytes
+        assert len(bands._bands((0, 0, 320, 180), len(centres))) == 1
+        draw_discs(alone, centres, radii, colors)
+    np.testing.assert_array_equal(alone, one)
 
 
 def _draw_many(seed):
-    centres, radii, colors = _mixed_discs(splat.BAND_DISCS + 100, seed)
+    centres, radii, colors = _mixed_discs(bands.BAND_DISCS + 100, seed)
     canvas = np.zeros((180, 320, 3), np.uint8)
     draw_discs(canvas, centres, radii, colors)
     return hashlib.sha256(canvas.tobytes()).hexdigest()

@@ -19,7 +19,7 @@ from numba.core import event as numba_event
 from .. import palette
 from ..io.writers import open_writer, write_png
 from ..model.validate import number
-from . import splat
+from . import bands
 from .player import Timeline
 from .raster import bgr
 
@@ -245,7 +245,7 @@ def _play(chapters, fps, frames, path, size, codec, quality, png_frame, transpar
                 draw_seconds = 0.0
                 with open_writer(codec, path, fps, size, quality, transparent=transparent,
                                  background=background_bgr, name=name, frames=frames) as video, \
-                        splat.on_one_thread():
+                        bands.on_one_thread():
                     for frame in range(frames):
                         canvas = video.frame_buffer()
                         start = time.perf_counter()

@@ -177,7 +177,7 @@ def drawing_ms(counts=DRAWING_COUNTS, sizes=DRAWING_SIZES, repeats: int = 7, old
     size and count: radii in pixels, then min/median/max of each. The former drawing takes
     about a second a frame at 250 000 discs, hence fewer repeats.
 
-    Timed on the wall clock (`*_ms`): from splat.BAND_DISCS discs on, the compiled drawing
+    Timed on the wall clock (`*_ms`): from bands.BAND_DISCS discs on, the compiled drawing
     splits the frame's rows between threads, one per core. The process's CPU time is given too
     (`new_cpu_ms`): the work done, whatever the split. On a shared machine the wall clock also
     counts the time other work held a core."""
