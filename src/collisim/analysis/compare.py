@@ -190,10 +190,15 @@ def _timed_run(scene, engine: str, substeps: int, timed: bool = True) -> tuple:
             traj = run_method(scene, engine, substeps)
             cost = (time.perf_counter() - start) / (scene.frames / scene.fps)
     except Exception as error:   # an engine that cannot run this world is a finding, not a crash
-        # a ValueError is the engine's own refusal, in its words; anything else is named by type
-        text = str(error) if isinstance(error, ValueError) else f"{type(error).__name__}: {error}"
-        return None, None, text.splitlines()[0]
+        return None, None, one_line(error)
     return traj, cost, None
+
+
+def one_line(error: BaseException) -> str:
+    """An error as one line of a table: a ValueError is collisim's own refusal, in its words;
+    anything else is a finding, named by its type."""
+    text = (str(error) if isinstance(error, ValueError) else f"{type(error).__name__}: {error}").strip()
+    return text.splitlines()[0] if text else type(error).__name__
 
 
 _MEASURES = ("cost", "energy_drift", "momentum_drift", "max_overlap", "outside_end", "outside_ever",

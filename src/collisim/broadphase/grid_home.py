@@ -30,7 +30,7 @@ from numba import njit
 
 from ..arrays import grown
 from ..compiling import uncounted
-from ._common import boxes_overlap, put_pair
+from ._common import boxes_overlap
 from .grid import cell_of
 
 FITS = 1.0 - 2.0 ** -20   # widest box / cell width at most this: the home-cell rule then holds

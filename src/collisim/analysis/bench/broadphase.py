@@ -104,8 +104,8 @@ def time_ckdtree(positions: np.ndarray, radii: np.ndarray, repeats: int) -> tupl
     return float(np.median(seconds)), len(pairs)
 
 
-def moving_gas(n: int, packing: float, seed: int) -> "collisim.Scene":
-    """n circles on a jittered lattice (no overlaps) in a box at `packing`, moving about a
+def moving_gas(n: int, packing: float, seed: int):
+    """A Scene: n circles on a jittered lattice (no overlaps) in a box at `packing`, moving about a
     tenth of a radius per step: the steady state of a gas."""
     import collisim
     from collisim.gas import lattice_gas

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..compare import measure, run_method
+from ..compare import measure, one_line, run_method
 from .spec import Record, job_id
 from .workloads import make_workload
 
@@ -39,7 +39,7 @@ def run_job(settings: dict, record: Record = Record()) -> dict:
     """Run one job: {"id", **settings, one key per record.measure, "error"}.
 
     A job that raises returns the same row with its measurements None and `error` set to one
-    line (type: message); it never raises, so one bad job does not stop a sweep."""
+    line (compare.one_line); it never raises, so one bad job does not stop a sweep."""
     row = {"id": job_id(settings), **settings}
     try:
         row.update(_measured(settings, record))
@@ -48,11 +48,6 @@ def run_job(settings: dict, record: Record = Record()) -> dict:
         row.update(dict.fromkeys(record.measure))
         row["error"] = one_line(error)
     return row
-
-
-def one_line(error: BaseException) -> str:
-    text = f"{type(error).__name__}: {error}".strip()
-    return text.splitlines()[0] if text else type(error).__name__
 
 
 def _measured(settings: dict, record: Record) -> dict:

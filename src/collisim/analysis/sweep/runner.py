@@ -25,7 +25,8 @@ import sys
 from dataclasses import replace
 from pathlib import Path
 
-from .job import one_line, run_job, warm_up
+from ..compare import one_line
+from .job import run_job, warm_up
 from .spec import Sweep, job_id
 
 DEFAULT_FOLDER = Path("renders/sweeps")

@@ -34,6 +34,7 @@ MEASUREMENTS = ("cost", "energy_drift", "momentum_drift", "max_overlap", "outsid
                 "segment_collisions", "wall_pressure", "position_error", "warnings", "events")
 DEFAULT_MEASURE = tuple(m for m in MEASUREMENTS if m not in ("position_error", "warnings"))
 HORIZON = 0.25          # seconds: when position_error compares with ccd (as collisim compare)
+MAX_JOBS = 1_000_000    # a sweep file's grid: more jobs are refused before any is made (split the file)
 TOP_LEVEL = ("name", "description", "measure", "horizon", "video", "trajectory", "grid", "plot")
 PLOT_KEYS = ("kind", "x", "y", "by", "xscale", "yscale", "title")
 
@@ -151,14 +152,24 @@ def _range(name: str, table: dict) -> list:
     if kind == "range":
         if not numbers or len(args) not in (2, 3) or not all(isinstance(a, int) for a in args) or 0 in args[2:]:
             raise ValueError(f"{name}: range takes [start, stop] or [start, stop, step], whole numbers, step != 0")
+        _require_few(f"values of {name}", len(range(*args)))
         return list(range(*args))
     if not numbers or len(args) != 3 or not isinstance(args[2], int) or args[2] < 1 \
             or not all(math.isfinite(a) for a in args) or (kind == "geomspace" and min(args[:2]) <= 0):
         raise ValueError(f"{name}: {kind} takes [first, last, count], count a whole number >= 1"
                          + (", first and last > 0" if kind == "geomspace" else ""))
+    _require_few(f"values of {name}", args[2])
     import numpy as np
     spaced = (np.geomspace if kind == "geomspace" else np.linspace)(args[0], args[1], args[2])
     return [float(f"{value:.12g}") for value in spaced]   # 12 digits: clean ids and tables
+
+
+def _require_few(what: str, count: int) -> None:
+    """Refuse more than MAX_JOBS of `what` ("values", a parameter's; "jobs", a grid's) before
+    they are made: a grid of a trillion jobs filled the memory and never began."""
+    if count > MAX_JOBS:
+        raise ValueError(f"{count:,} {what}; a sweep file runs at most {MAX_JOBS:,} jobs (split the grid into "
+                         f"several files)".replace(",", " "))
 
 
 # --- the file -----------------------------------------------------------------------------------
@@ -253,6 +264,7 @@ def expand(grid: dict) -> list:
             raise ValueError(f"parameter '{both[0]}' is in both [grid] and {where}; give it in one place")
         lists = {**shared_values, **_checked(case, where)}
         _check_product(lists, where if grid.get("cases") else "[grid]", seen)
+        _require_few("jobs in the grid", len(jobs) + math.prod(len(values) for values in lists.values()))
         keys = sorted(lists)
         for combination in itertools.product(*(lists[key] for key in keys)):
             settings = dict(zip(keys, combination))
