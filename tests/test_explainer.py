@@ -8,6 +8,7 @@ import pytest
 import collisim
 from collisim.render import explain
 from collisim.render.explain import Caption, Explainer, Note
+from collisim.render.pace import Freeze, Slow
 from collisim.render.player import Timeline
 
 
@@ -109,3 +110,14 @@ def test_a_paced_scene_plays_longer_and_holds_its_frozen_sample():
     scene = collisim.load_scene("two_bodies")
     job = collisim.pipeline.plan(scene, quality="l")
     assert job.frames == round((scene.seconds + scene.render.pace.extra) * 15)
+
+
+@pytest.mark.parametrize("make, words", [
+    (lambda: Freeze(float("nan"), 1.0), "Freeze needs a finite time and finite seconds > 0"),
+    (lambda: Freeze(1.0, float("inf")), "Freeze needs a finite time and finite seconds > 0"),
+    (lambda: Slow(0.0, float("inf"), 0.5), "Slow needs finite times, end > start"),
+    (lambda: Slow(1.0, 0.5, 0.5), "Slow needs finite times, end > start"),
+])
+def test_a_pace_of_impossible_times_is_one_clear_line(make, words):
+    with pytest.raises(ValueError, match=words):
+        make()

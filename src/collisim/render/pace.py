@@ -25,8 +25,8 @@ class Slow:
     factor: float   # 0.1 plays ten times slower
 
     def __post_init__(self):
-        if not (0 < self.factor <= 1) or not self.end > self.start:
-            raise ValueError(f"Slow needs end > start and a factor in (0, 1], got {self}")
+        if not (0 < self.factor <= 1) or not self.end > self.start or not math.isfinite(self.end - self.start):
+            raise ValueError(f"Slow needs finite times, end > start and a factor in (0, 1], got {self}")
 
 
 @dataclass(frozen=True)
@@ -35,8 +35,8 @@ class Freeze:
     seconds: float
 
     def __post_init__(self):
-        if not self.seconds > 0:
-            raise ValueError(f"Freeze needs seconds > 0, got {self}")
+        if not self.seconds > 0 or not math.isfinite(self.at) or not math.isfinite(self.seconds):
+            raise ValueError(f"Freeze needs a finite time and finite seconds > 0, got {self}")
 
 
 class Pace:
@@ -93,8 +93,9 @@ class Steps:
     hold is over (the simulation plays on). `state.clock` is the panel's video clock."""
 
     def __init__(self, start: float, count: int, seconds: float, hold: float = 1.5):
-        if count < 1 or not seconds > 0 or hold < 0:
-            raise ValueError(f"Steps needs count >= 1, seconds > 0 and hold >= 0, got {count}, {seconds}, {hold}")
+        if count < 1 or not seconds > 0 or not hold >= 0 or not all(map(math.isfinite, (start, seconds, hold))):
+            raise ValueError(f"Steps needs count >= 1, finite times, seconds > 0 and hold >= 0, got {count}, "
+                             f"{seconds}, {hold}")
         self.start, self.count, self.seconds = start, count, seconds
         self.end = start + count * seconds
         self.freeze_end = self.end + hold
