@@ -139,3 +139,24 @@ def test_a_panel_or_chapter_of_too_many_steps_is_refused_before_anything_runs():
         with pytest.raises(ValueError, match=r"scene 'endless' would take 2000000000 simulation steps"):
             plan(scene)
         plan(scene, limits=False)   # planned, not run
+
+
+BAD_RENDER_SETTINGS = {
+    "trails of a fraction": (dict(trails=2.5), r"trails must be a whole number of frames >= 0, got 2.5"),
+    "negative trails": (dict(trails=-1), r"trails must be a whole number of frames >= 0, got -1"),
+    "arrows reaching NaN seconds": (dict(arrow_seconds=float("nan")), "arrow_seconds must be a finite number > 0"),
+    "a layout of no rows": (dict(layout=(0, 2)), r"layout must be two whole numbers >= 1, got \(0, 2\)"),
+    "a size of no pixels": (dict(size=(0, 0)), r"size must be two whole numbers >= 1"),
+    "an overlay that is a number": (dict(overlay=5), r"overlay must be a function overlay\(canvas, view, state\)"),
+    "a counter that is a number": (dict(counters={"missed": 3}), "counters must map names to functions"),
+    "an explainer that is text": (dict(explainer="captions"), "explainer must be an Explainer"),
+}
+
+
+@pytest.mark.parametrize("case", BAD_RENDER_SETTINGS)
+def test_bad_render_settings_are_one_line_before_anything_runs(case):
+    """Each failed mid-render before: TypeError, ZeroDivisionError, or OpenCV's overload error."""
+    kwargs, message = BAD_RENDER_SETTINGS[case]
+    with pytest.raises(ValueError, match=message) as error:
+        collisim.RenderSettings(**kwargs)
+    assert "\n" not in str(error.value)

@@ -40,6 +40,34 @@ class RenderSettings:
     explainer: Optional[object] = None   # render.explain.Explainer: captions, formulas, arrows, marks
     pace: Optional[object] = None        # render.pace.Pace: slow motion and freeze frames
 
+    def __post_init__(self):
+        """Refuse, in one line, what the player could only fail on mid-render."""
+        self.size = _whole_pair("size", self.size)
+        self.layout = None if self.layout is None else _whole_pair("layout", self.layout)
+        if isinstance(self.trails, bool) or not isinstance(self.trails, (int, np.integer)) or self.trails < 0:
+            raise ValueError(f"trails must be a whole number of frames >= 0, got {self.trails!r}")
+        self.arrow_seconds = validate.number("arrow_seconds", self.arrow_seconds, positive=True)
+        if self.overlay is not None and not callable(self.overlay):
+            raise ValueError(f"overlay must be a function overlay(canvas, view, state), got {self.overlay!r}")
+        if not isinstance(self.counters, dict) or not all(callable(c) for c in self.counters.values()):
+            raise ValueError("counters must map names to functions count(before, after), got "
+                             f"{self.counters!r}")
+        if self.explainer is not None and not (hasattr(self.explainer, "draw") and hasattr(self.explainer, "strips")):
+            raise ValueError(f"explainer must be an Explainer (collisim.render.explain), got {self.explainer!r}")
+        if self.pace is not None and not hasattr(self.pace, "simulation_time"):
+            raise ValueError(f"pace must be a Pace (collisim.render.pace), got {self.pace!r}")
+
+
+def _whole_pair(name: str, value) -> tuple:
+    """(a, b), both whole numbers >= 1, or ValueError naming `name`."""
+    try:
+        a, b = value
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be two whole numbers, got {value!r}") from None
+    if not all(isinstance(v, (int, np.integer)) and not isinstance(v, bool) and v >= 1 for v in (a, b)):
+        raise ValueError(f"{name} must be two whole numbers >= 1, got {value!r}")
+    return int(a), int(b)
+
 
 @dataclass
 class Panel:
