@@ -7,7 +7,7 @@ import pytest
 
 import collisim
 from collisim.render import explain
-from collisim.render.explain import Caption, Explainer, Note
+from collisim.render.explain import Arrow, Caption, Explainer, Figure, Mark, Note
 from collisim.render.pace import Freeze, Slow
 from collisim.render.player import Timeline
 
@@ -121,3 +121,37 @@ def test_a_paced_scene_plays_longer_and_holds_its_frozen_sample():
 def test_a_pace_of_impossible_times_is_one_clear_line(make, words):
     with pytest.raises(ValueError, match=words):
         make()
+
+
+@pytest.mark.parametrize("make, words", [
+    (lambda: Caption("x", float("nan"), 1.0), "Caption start must be seconds, None or a function of the state"),
+    (lambda: Caption("x", 0.0, 1.0, "middle"), "Caption strip must be one of 'top', 'bottom', got 'middle'"),
+    (lambda: Caption("x", 0.0, 1.0, "top", -1), "Caption line must be a whole number >= 0"),
+    (lambda: Figure(lambda *a: None, 0.0, 1.0, "left"), "Figure place must be one of 'side', 'top', 'bottom', 'box'"),
+    (lambda: Mark((-1,), 0.0, 1.0), r"Mark bodies must be body numbers >= 0, got \(-1,\)"),
+    (lambda: Explainer([Caption("x")], lines=-1), "Explainer lines must be a whole number >= 0"),
+    (lambda: Explainer(["a caption"]), "an Explainer holds Caption, Arrow, Mark, Note and Figure items"),
+    (lambda: Explainer([Caption("x")], clock="wall"), "Explainer clock must be one of 'simulation', 'video'"),
+])
+def test_an_explainer_item_made_wrong_is_one_line_when_it_is_made(make, words):
+    """Each failed mid-render before (KeyError, IndexError, TypeError) or drew nothing."""
+    with pytest.raises(ValueError, match=words):
+        make()
+
+
+def test_what_a_render_can_only_know_is_one_line_before_the_video_is_written(tmp_path):
+    world = collisim.World([[5.0, 5.0], [2.0, 2.0]], [[1.0, 0.0], [0.0, 1.0]], radii=0.5)
+
+    def scene(item):
+        return collisim.Scene(world=world, fps=30, seconds=0.5,
+                              render=collisim.RenderSettings(explainer=Explainer([item])))
+    with pytest.raises(ValueError, match=r"Mark names body 7, and the world has 2 bodies \(0 to 1\)"):
+        collisim.render(scene(Mark((7,))), tmp_path / "mark.mp4", (320, 180), progress=False)
+    with pytest.raises(ValueError, match=r"text '\$x\^2' is not valid mathtext \(an odd number of \$ signs"):
+        collisim.render(scene(Caption(r"$x^2")), tmp_path / "math.mp4", (320, 180), progress=False)
+    assert list(tmp_path.iterdir()) == []
+    # an arrow whose end is not known yet, and a note whose text is not, are left out, not an error
+    unknown = collisim.render(scene(Arrow((1.0, 1.0), lambda s: np.array([np.nan, 0.0]))), tmp_path / "a.mp4",
+                              (320, 180), progress=False)
+    blank = collisim.render(scene(Note(lambda s: None, (1.0, 1.0))), tmp_path / "n.mp4", (320, 180), progress=False)
+    assert unknown.exists() and blank.exists()

@@ -1,7 +1,8 @@
 """The explainer layer: captions, typeset formulas, arrows and numbered particles that appear and
 fade on a panel's timeline, for scenes that teach.
 
-A scene asks for it with `RenderSettings(explainer=Explainer([...]))`. Its items:
+A scene asks for it with `RenderSettings(explainer=Explainer([...]))`. Its items (defined and
+checked in render/items.py, imported here):
 
 * `Caption(text, start, end, strip="bottom", line=0)`: a line in a strip above or below the
   simulation, never over it. Text between dollar signs is typeset as math by matplotlib's
@@ -32,63 +33,18 @@ import io
 import math
 from dataclasses import dataclass, field
 from functools import lru_cache
-from typing import Callable, Optional, Union
+from typing import Callable, Union
 
 import cv2
 import numpy as np
 
 from .. import palette
 from . import raster
+from .items import Arrow, Caption, Figure, Mark, Note, Point, check_choice
 
-Point = Union[tuple, np.ndarray, Callable]
 BASE_HEIGHT = 480.0        # a panel this tall draws text at its base size
 CAPTION_PIXELS = 17.0      # caption text height at the base size
 NOTE_PIXELS = 14.0
-
-
-@dataclass
-class Caption:
-    text: Union[str, Callable]
-    start: float = 0.0
-    end: float = math.inf
-    strip: str = "bottom"        # "top" or "bottom"
-    line: int = 0                # 0 is the strip's first line
-
-
-@dataclass
-class Arrow:
-    tail: Point
-    head: Point
-    start: float = 0.0
-    end: float = math.inf
-    label: str = ""
-    color: Optional[tuple] = None
-    label_gap: float = 0.0       # world units between the head and its label, to the right
-
-
-@dataclass
-class Mark:
-    bodies: tuple
-    start: float = 0.0
-    end: float = math.inf
-    labels: Optional[tuple] = None   # default: 1, 2, 3, ... in the order given
-
-
-@dataclass
-class Note:
-    text: str
-    at: Point
-    start: float = 0.0
-    end: float = math.inf
-    gap: float = 0.0             # world units between the point and the text, to its right
-
-
-@dataclass
-class Figure:
-    draw: Callable                 # draw(canvas, rect, view, state, unit): within rect (x, y, w, h)
-    start: float = 0.0
-    end: float = math.inf
-    place: str = "side"            # "side", "top", "bottom" or "box"
 
 
 @dataclass
@@ -101,6 +57,27 @@ class Explainer:
     side: float = 0.0
     clock: str = "simulation"    # items' times in "simulation" seconds, or "video" seconds (freezes)
     drawn: list = field(default_factory=list, repr=False)
+
+    def __post_init__(self):
+        kinds = (Caption, Arrow, Mark, Note, Figure)
+        strange = [item for item in self.items if not isinstance(item, kinds)]
+        if strange:
+            raise ValueError(f"an Explainer holds Caption, Arrow, Mark, Note and Figure items, got {strange[0]!r}")
+        lines = self.lines if isinstance(self.lines, tuple) else (self.lines, self.lines)
+        if len(lines) != 2 or not all(isinstance(k, (int, np.integer)) and not isinstance(k, bool) and k >= 0
+                                      for k in lines):
+            raise ValueError(f"Explainer lines must be a whole number >= 0, or two (top, bottom), got {self.lines!r}")
+        if not (isinstance(self.fade, (int, float)) and 0 <= self.fade < math.inf):
+            raise ValueError(f"Explainer fade must be seconds >= 0, got {self.fade!r}")
+        if not (isinstance(self.side, (int, float)) and 0 <= self.side < 1):
+            raise ValueError(f"Explainer side must be a share of the width in [0, 1), got {self.side!r}")
+        check_choice(self, "clock", ("simulation", "video"))
+
+    def check_bodies(self, n: int) -> None:
+        """ValueError when a Mark names a body the panel's world (of n bodies) lacks."""
+        for item in self.items:
+            if isinstance(item, Mark) and max(item.bodies) >= n:
+                raise ValueError(f"Mark names body {max(item.bodies)}, and the world has {n} bodies (0 to {n - 1})")
 
     def strips(self) -> tuple:
         """(top lines, bottom lines) the panel must reserve."""
@@ -149,7 +126,9 @@ class Explainer:
             elif isinstance(item, Mark):
                 self._mark(canvas, view, state, world.radii, item, unit, alpha)
             elif isinstance(item, Note):
-                self._note(canvas, view, state, item.text, resolve(item.at, state), unit, alpha, item.gap, dot=True)
+                text = item.text(state) if callable(item.text) else item.text
+                if text:
+                    self._note(canvas, view, state, text, resolve(item.at, state), unit, alpha, item.gap, dot=True)
             elif isinstance(item, Figure):
                 self._figure(canvas, view, state, item, strip_rects[item.place], unit, alpha)
 
@@ -178,6 +157,8 @@ class Explainer:
 
     def _arrow(self, canvas, view, state, item, unit, alpha):
         tail, head = view.to_pixels(resolve(item.tail, state)), view.to_pixels(resolve(item.head, state))
+        if not (np.all(np.isfinite(tail)) and np.all(np.isfinite(head))):
+            return   # an end not known (a velocity a positions-only trajectory did not keep)
         color = item.color or palette.HIGHLIGHT
         layer = canvas.copy()
         cv2.arrowedLine(layer, tuple(raster.fixed(tail).tolist()), tuple(raster.fixed(head).tolist()),
@@ -266,7 +247,13 @@ def text_image(text: str, pixels: float) -> np.ndarray:
     size = max(4.0, round(pixels * 2.0) / 2.0)   # half-pixel steps keep the cache small
     # mathtext crops the image at the last glyph's advance, cutting off a final letter's right edge
     # at large sizes ("reflectec" at -qh); a trailing thin math space keeps it whole
-    mathtext.math_to_image(text + r"$\,$", buffer, prop=FontProperties(size=size), dpi=72, format="png")
+    try:
+        mathtext.math_to_image(text + r"$\,$", buffer, prop=FontProperties(size=size), dpi=72, format="png")
+    except ValueError as error:   # matplotlib's message spans lines: its last one says what is wrong
+        lines = [line.strip() for line in str(error).splitlines() if line.strip()]
+        why = (lines[-1] if lines else str(error)).removeprefix("ParseException: ")
+        raise ValueError(f"text {text!r} is not valid mathtext (an odd number of $ signs, or an unknown "
+                         f"command): {why}") from None
     # black text on an opaque white ground: darkness is coverage
     image = cv2.imdecode(np.frombuffer(buffer.getvalue(), np.uint8), cv2.IMREAD_GRAYSCALE)
     return (255 - image).astype(np.float32) / 255.0

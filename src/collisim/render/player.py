@@ -90,6 +90,8 @@ class PanelPlayer:
         self._blocks = source.blocks()
         self._block = next(self._blocks)
         self.world = self._block.world
+        if self.settings.explainer is not None:
+            self.settings.explainer.check_bodies(self.world.n)
         # an explainer's caption strips sit above and below the simulation, never over it
         top_lines, bottom_lines = self.settings.explainer.strips() if self.settings.explainer else (0, 0)
         room = height - title_height - hud_height
