@@ -88,6 +88,25 @@ def test_a_scene_that_overflows_gives_one_line_and_no_file(cli, tmp_path):
     assert not out.exists() and not list(tmp_path.rglob("*.mp4*"))
 
 
+def test_a_scene_whose_own_code_raises_while_drawing_gives_one_line_naming_it_and_no_file(cli, tmp_path):
+    """An overlay (the scene's own code) that raises at the fifth frame: one line naming the
+    scene's file, line and function, not collisim's traceback."""
+    path = scene_file(tmp_path, """
+        def boom(canvas, view, state):
+            if state.sample > 3:
+                return 1 / 0
+        world = collisim.World(positions=[[5, 5]], velocities=[[1, 0]])
+        return collisim.Scene(world=world, seconds=0.5, render=collisim.RenderSettings(overlay=boom))
+    """)
+    out = tmp_path / "out" / "video.mp4"
+    result = cli("render", path, "--out", out, "--no-progress")
+    assert result.returncode == 2
+    lines = [line for line in result.stderr.strip().splitlines() if "compiling the simulation kernels" not in line]
+    assert lines == ["collisim: error: the scene's code raised ZeroDivisionError: division by zero "
+                     "(bad_scene.py, line 10, in boom)"], result.stderr
+    assert not out.exists() and not list(tmp_path.rglob("*.mp4*"))
+
+
 @pytest.mark.parametrize("case", sorted(BAD_SCENES))
 def test_bad_scene_gives_one_line_and_no_file(cli, tmp_path, case):
     body, message = BAD_SCENES[case]

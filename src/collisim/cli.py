@@ -10,6 +10,7 @@ import os
 import signal
 import sys
 import time
+import traceback
 import warnings
 from pathlib import Path
 
@@ -221,6 +222,23 @@ def show_note(message, category, filename, lineno, file=None, line=None) -> None
     say(f"collisim: note: {message}")
 
 
+def scene_code(error: BaseException) -> str | None:
+    """Where in a scene's own code an error was raised ("file, line N, in name": the innermost
+    frame of a file outside collisim and the Python installation, such as an overlay or a
+    caption function), or None if it came from nowhere such."""
+    package = Path(__file__).resolve().parent
+    installation = [Path(p).resolve() for p in {sys.prefix, sys.base_prefix, sys.exec_prefix}]
+    found = None
+    for frame, line in traceback.walk_tb(error.__traceback__):
+        path = Path(frame.f_code.co_filename)
+        if not path.is_file():
+            continue   # <frozen ...>, <string>
+        path = path.resolve()
+        if not path.is_relative_to(package) and not any(path.is_relative_to(p) for p in installation):
+            found = f"{path.name}, line {line}, in {frame.f_code.co_name}"
+    return found
+
+
 def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
     with warnings.catch_warnings(), signals_interrupt():
@@ -230,6 +248,12 @@ def main(argv=None) -> int:
             status = COMMANDS[args.command](args)
         except ValueError as error:
             say(f"collisim: error: {error}")
+            status = 2
+        except Exception as error:   # noqa: BLE001 - the scene's own code, or a defect of collisim's
+            where = scene_code(error)
+            if where is None:
+                raise   # collisim's own: the traceback is the report
+            say(f"collisim: error: the scene's code raised {type(error).__name__}: {error} ({where})")
             status = 2
         except KeyboardInterrupt as interrupt:
             signum = getattr(interrupt, "signum", signal.SIGINT)
