@@ -1,4 +1,6 @@
 """The command line, run in a subprocess as a user would; videos are decoded, not trusted."""
+import subprocess
+import sys
 import textwrap
 from fractions import Fraction
 
@@ -222,3 +224,12 @@ def test_scenes_render_with_either_method(cli, tmp_path, scene):
         frames = collisim.pipeline.plan(paced, (160, 90)).frames   # 15, plus a scene's slow motion
         assert decode_video(out)[:3] == (frames, 160, 90) and frames >= 15
 
+
+
+def test_a_reader_that_stops_reading_ends_the_listing_quietly():
+    """`collisim list | head -1`: the closed pipe is no error (status 0, nothing on stderr)."""
+    process = subprocess.Popen([sys.executable, "-m", "collisim", "list"], stdout=subprocess.PIPE,
+                               stderr=subprocess.PIPE)
+    process.stdout.close()   # the reader is gone before the first line
+    err = process.stderr.read().decode()
+    assert process.wait(timeout=120) == 0 and err == "", err

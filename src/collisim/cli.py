@@ -249,12 +249,6 @@ def main(argv=None) -> int:
         except ValueError as error:
             say(f"collisim: error: {error}")
             status = 2
-        except Exception as error:   # noqa: BLE001 - the scene's own code, or a defect of collisim's
-            where = scene_code(error)
-            if where is None:
-                raise   # collisim's own: the traceback is the report
-            say(f"collisim: error: the scene's code raised {type(error).__name__}: {error} ({where})")
-            status = 2
         except KeyboardInterrupt as interrupt:
             signum = getattr(interrupt, "signum", signal.SIGINT)
             say(f"collisim: interrupted ({signal.Signals(signum).name}); no file written")
@@ -262,4 +256,10 @@ def main(argv=None) -> int:
         except BrokenPipeError:  # the reader (e.g. `head`) stopped reading: stop quietly
             os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
             status = 0
+        except Exception as error:   # noqa: BLE001 - last: the scene's own code, or a defect of collisim's
+            where = scene_code(error)
+            if where is None:
+                raise   # collisim's own: the traceback is the report
+            say(f"collisim: error: the scene's code raised {type(error).__name__}: {error} ({where})")
+            status = 2
     return status

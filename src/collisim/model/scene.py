@@ -42,8 +42,8 @@ class RenderSettings:
 
     def __post_init__(self):
         """Refuse, in one line, what the player could only fail on mid-render."""
-        self.size = _whole_pair("size", self.size)
-        self.layout = None if self.layout is None else _whole_pair("layout", self.layout)
+        self.size = validate.whole_pair("size", self.size)
+        self.layout = None if self.layout is None else validate.whole_pair("layout", self.layout)
         if isinstance(self.trails, bool) or not isinstance(self.trails, (int, np.integer)) or self.trails < 0:
             raise ValueError(f"trails must be a whole number of frames >= 0, got {self.trails!r}")
         self.arrow_seconds = validate.number("arrow_seconds", self.arrow_seconds, positive=True)
@@ -56,17 +56,6 @@ class RenderSettings:
             raise ValueError(f"explainer must be an Explainer (collisim.render.explain), got {self.explainer!r}")
         if self.pace is not None and not hasattr(self.pace, "simulation_time"):
             raise ValueError(f"pace must be a Pace (collisim.render.pace), got {self.pace!r}")
-
-
-def _whole_pair(name: str, value) -> tuple:
-    """(a, b), both whole numbers >= 1, or ValueError naming `name`."""
-    try:
-        a, b = value
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be two whole numbers, got {value!r}") from None
-    if not all(isinstance(v, (int, np.integer)) and not isinstance(v, bool) and v >= 1 for v in (a, b)):
-        raise ValueError(f"{name} must be two whole numbers >= 1, got {value!r}")
-    return int(a), int(b)
 
 
 @dataclass

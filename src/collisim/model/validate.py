@@ -34,6 +34,17 @@ def number(name: str, value, *, low=None, high=None, positive=False) -> float:
     return value
 
 
+def whole_pair(name: str, value) -> tuple:
+    """(a, b), both whole numbers >= 1, or ValueError naming `name`."""
+    try:
+        a, b = value
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be two whole numbers, got {value!r}") from None
+    if not all(isinstance(v, (int, np.integer)) and not isinstance(v, bool) and v >= 1 for v in (a, b)):
+        raise ValueError(f"{name} must be two whole numbers >= 1, got {value!r}")
+    return int(a), int(b)
+
+
 def per_body(name: str, value, n: int, columns: int | None = None) -> np.ndarray:
     """A per-body array: (n,) or (n, columns) float64, from a scalar (or one row) broadcast to
     every body, or from an array of exactly that shape. Anything else is one clear line."""
