@@ -11,7 +11,8 @@ checked in render/items.py, imported here):
   or functions of the frame's state (FrameState), so an arrow can follow a body.
 * `Mark(bodies, start, end, labels=None)`: numbers bodies (or labels them) beside them, with a
   ring, so a caption can name "particle 2".
-* `Note(text, at, start, end)`: a short label next to a world point (or a function of state).
+* `Note(text, at, start, end)`: a short label next to a world point; the text and the point
+  may be functions of the state.
 * `Figure(draw, start, end, place="side")`: a picture of the scene's own drawn by
   `draw(canvas, rect, view, state, unit)` inside a region beside the simulation: the "side"
   column (`Explainer(side=0.3)` reserves that share of the panel's width at the right) or a

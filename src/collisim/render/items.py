@@ -80,7 +80,7 @@ class Mark:
 
 @dataclass
 class Note:
-    text: str
+    text: Union[str, Callable]   # or a function of the state; "" or None from it: not drawn
     at: Point
     start: float = 0.0
     end: float = math.inf
