@@ -23,6 +23,8 @@ BAD_WORLDS = {
     "NaN velocity": (dict(positions=[[1, 1]], velocities=[[np.nan, 0]]), "velocities contains NaN or inf"),
     "segments of three numbers": (dict(positions=[[1, 1]], segments=[[0, 0, 1]]), r"segments must have shape \(m, 4\)"),
     "negative friction": (dict(positions=[[1, 1]], friction=-1), "friction must be >= 0, got -1"),
+    "radii None": (dict(positions=[[1, 1]], radii=None), "radii must be numbers, got None"),   # was 'contains NaN'
+    "masses of None": (dict(positions=[[1, 1], [3, 3]], masses=[1.0, None]), "masses contains NaN or inf"),
     "particle through a wall": (dict(positions=[[5, 0.2]], radii=0.5),
                                 r"particle 0 \(radius 0.5\) at \(5, 0.2\) reaches 0.3 beyond the box's bottom wall"),
     "tilted box through the floor": (dict(positions=[[5, 0.25]], polygons=[[[-0.5, -0.25], [0.5, -0.25], [0.5, 0.25],
@@ -160,3 +162,9 @@ def test_bad_render_settings_are_one_line_before_anything_runs(case):
     with pytest.raises(ValueError, match=message) as error:
         collisim.RenderSettings(**kwargs)
     assert "\n" not in str(error.value)
+
+
+def test_angles_and_angular_velocities_left_as_none_are_zero():
+    """None, like velocities=None, means the default (it read 'angles contains NaN or inf')."""
+    world = collisim.World([[5.0, 5.0]], angles=None, angular_velocities=None)
+    assert world.angles.tolist() == [0.0] and world.angular_velocities.tolist() == [0.0]

@@ -169,7 +169,9 @@ def _outside_map(world) -> None:
 
 
 def _floats(name: str, value) -> np.ndarray:
-    """value as a float64 array, or ValueError naming `name`."""
+    """value as a float64 array, or ValueError naming `name` (None too: numpy makes it NaN)."""
+    if value is None:
+        raise ValueError(f"{name} must be numbers, got None")
     try:
         return np.array(value, dtype=np.float64)
     except (TypeError, ValueError):

@@ -50,8 +50,9 @@ class World:
         n = len(self.positions)
         table = shape_table(polygons, n)
         self.velocities = validate.per_body("velocities", 0.0 if velocities is None else velocities, n, 2)
-        self.angles = validate.per_body("angles", angles, n)
-        self.angular_velocities = validate.per_body("angular_velocities", angular_velocities, n)
+        self.angles = validate.per_body("angles", 0.0 if angles is None else angles, n)
+        self.angular_velocities = validate.per_body("angular_velocities",
+                                                    0.0 if angular_velocities is None else angular_velocities, n)
         self.gravity = validate.vector("gravity", gravity, "(0, -9.81)")
         self.accelerations = validate.per_body("accelerations", self.gravity if accelerations is None
                                                else accelerations, n, 2)
