@@ -15,6 +15,7 @@ from numba import njit
 
 from ..arrays import grown
 from ..compiling import uncounted
+from ..model.validate import is_whole
 from ._rays import check_ray, sorted_hits
 
 
@@ -55,7 +56,7 @@ def bounding_box(lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray
 
 def check_int_option(name: str, value, minimum: int) -> int:
     """An integer option such as leaf_size=, at least `minimum`."""
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
+    if not is_whole(value, minimum):
         raise ValueError(f"{name} must be an integer >= {minimum}; got {value!r}")
     return int(value)
 

@@ -7,8 +7,6 @@ import warnings
 from dataclasses import dataclass, field
 from typing import Callable, Optional
 
-import numpy as np
-
 from . import validate
 from .world import World
 
@@ -44,7 +42,7 @@ class RenderSettings:
         """Refuse, in one line, what the player could only fail on mid-render."""
         self.size = validate.whole_pair("size", self.size)
         self.layout = None if self.layout is None else validate.whole_pair("layout", self.layout)
-        if isinstance(self.trails, bool) or not isinstance(self.trails, (int, np.integer)) or self.trails < 0:
+        if not validate.is_whole(self.trails):
             raise ValueError(f"trails must be a whole number of frames >= 0, got {self.trails!r}")
         self.arrow_seconds = validate.number("arrow_seconds", self.arrow_seconds, positive=True)
         if self.overlay is not None and not callable(self.overlay):
@@ -117,7 +115,7 @@ class Scene:
         from ..engine import METHODS
         if self.method not in METHODS:
             raise ValueError(f"unknown method {self.method!r}; choose one of: {', '.join(METHODS)}")
-        if isinstance(self.substeps, bool) or not isinstance(self.substeps, (int, np.integer)) or self.substeps < 1:
+        if not validate.is_whole(self.substeps, 1):
             raise ValueError(f"substeps must be a whole number >= 1, got {self.substeps!r}")
         self.substeps = int(self.substeps)
         if self.rest_speed is not None:

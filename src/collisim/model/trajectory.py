@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..arrays import grown
 from ..notebook import trajectory_preview_html
 from .bodyshapes import polygons_of
 from .world import World
@@ -90,9 +91,9 @@ class PastEvents:
         count = min(len(events), self.cap - self.size)
         if count <= 0:
             return
-        if self.size + count > len(self._arrays):   # room for at least twice as many
-            room = max(2 * len(self._arrays), self.size + count, 64)
-            self._arrays = Events(*(_grown(getattr(self._arrays, name), room, self.size) for name in _EVENT_FIELDS))
+        if self.size + count > len(self._arrays):   # room for at least twice as many (arrays.grown)
+            self._arrays = Events(*(grown(getattr(self._arrays, name), self.size + count, self.size)
+                                    for name in _EVENT_FIELDS))
         for name in _EVENT_FIELDS:
             getattr(self._arrays, name)[self.size:self.size + count] = getattr(events, name)[:count]
         self.size += count
@@ -101,12 +102,6 @@ class PastEvents:
         """The events with time <= `time`, as views."""
         kept = self._arrays.take(slice(0, self.size))
         return kept.take(slice(0, int(np.searchsorted(kept.time, time, side="right"))))
-
-
-def _grown(array: np.ndarray, room: int, keep: int) -> np.ndarray:
-    grown = np.empty((room,) + array.shape[1:], array.dtype)
-    grown[:keep] = array[:keep]
-    return grown
 
 
 @dataclass

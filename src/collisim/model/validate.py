@@ -34,13 +34,18 @@ def number(name: str, value, *, low=None, high=None, positive=False) -> float:
     return value
 
 
+def is_whole(value, minimum: int = 0) -> bool:
+    """Is value a whole number (an int or numpy integer, not a bool) >= minimum?"""
+    return isinstance(value, (int, np.integer)) and not isinstance(value, bool) and value >= minimum
+
+
 def whole_pair(name: str, value) -> tuple:
     """(a, b), both whole numbers >= 1, or ValueError naming `name`."""
     try:
         a, b = value
     except (TypeError, ValueError):
         raise ValueError(f"{name} must be two whole numbers, got {value!r}") from None
-    if not all(isinstance(v, (int, np.integer)) and not isinstance(v, bool) and v >= 1 for v in (a, b)):
+    if not (is_whole(a, 1) and is_whole(b, 1)):
         raise ValueError(f"{name} must be two whole numbers >= 1, got {value!r}")
     return int(a), int(b)
 

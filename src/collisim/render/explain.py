@@ -41,6 +41,7 @@ import numpy as np
 
 from .. import palette
 from . import raster
+from ..model.validate import is_whole
 from .items import Arrow, Caption, Figure, Mark, Note, Point, check_choice
 
 BASE_HEIGHT = 480.0        # a panel this tall draws text at its base size
@@ -65,8 +66,7 @@ class Explainer:
         if strange:
             raise ValueError(f"an Explainer holds Caption, Arrow, Mark, Note and Figure items, got {strange[0]!r}")
         lines = self.lines if isinstance(self.lines, tuple) else (self.lines, self.lines)
-        if len(lines) != 2 or not all(isinstance(k, (int, np.integer)) and not isinstance(k, bool) and k >= 0
-                                      for k in lines):
+        if len(lines) != 2 or not all(is_whole(k) for k in lines):
             raise ValueError(f"Explainer lines must be a whole number >= 0, or two (top, bottom), got {self.lines!r}")
         if not (isinstance(self.fade, (int, float)) and 0 <= self.fade < math.inf):
             raise ValueError(f"Explainer fade must be seconds >= 0, got {self.fade!r}")

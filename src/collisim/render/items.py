@@ -12,6 +12,8 @@ from typing import Callable, Optional, Union
 
 import numpy as np
 
+from ..model.validate import is_whole
+
 Point = Union[tuple, np.ndarray, Callable]
 STRIP_NAMES = ("top", "bottom")
 PLACES = ("side", "top", "bottom", "box")
@@ -45,7 +47,7 @@ class Caption:
     def __post_init__(self):
         _check_times(self)
         check_choice(self, "strip", STRIP_NAMES)
-        if isinstance(self.line, bool) or not isinstance(self.line, (int, np.integer)) or self.line < 0:
+        if not is_whole(self.line):
             raise ValueError(f"Caption line must be a whole number >= 0, got {self.line!r}")
 
 
@@ -73,8 +75,7 @@ class Mark:
     def __post_init__(self):
         _check_times(self)
         self.bodies = tuple(self.bodies)
-        if not self.bodies or not all(isinstance(b, (int, np.integer)) and not isinstance(b, bool) and b >= 0
-                                      for b in self.bodies):
+        if not self.bodies or not all(is_whole(b) for b in self.bodies):
             raise ValueError(f"Mark bodies must be body numbers >= 0, got {self.bodies!r}")
 
 

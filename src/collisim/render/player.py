@@ -109,13 +109,12 @@ class PanelPlayer:
         self.text_scale = max(0.38, min(0.55, width / 1280 * 0.8)) * self.grow
         self._first, self._sample, self._collisions, self.approximate_frames = 0, -1, 0, 0
         self._history = deque(maxlen=max(self.settings.trails, 1))
-        self._recent = [self._block.events]
         # the run's events so far, for what reads state.events (overlays, explainers, counters);
         # without them, a panel holds only its current block's, however long the video
         settings = self.settings
         self._past = PastEvents() if settings.overlay or settings.explainer or settings.counters else None
-        if self._past is not None:
-            self._past.add(self._block.events)
+        self._recent = []
+        self._keep_events()
         self._counters = dict.fromkeys(self.settings.counters, 0)
         self._memory = {}   # FrameState.memory
         self.state = None
@@ -175,10 +174,14 @@ class PanelPlayer:
         while sample >= self._first + len(self._block.times):
             self._first += len(self._block.times)
             self._block = next(self._blocks)
-            self._recent = self._flashing(self._recent) + [self._block.events]
-            if self._past is not None:
-                self._past.add(self._block.events)
+            self._keep_events()
         return sample - self._first
+
+    def _keep_events(self) -> None:
+        """Keep the new block's events: for the flashes, and with the run's past if it is read."""
+        self._recent = self._flashing(self._recent) + [self._block.events]
+        if self._past is not None:
+            self._past.add(self._block.events)
 
     def _state(self, row: int) -> FrameState:
         b = self._block
