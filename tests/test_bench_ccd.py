@@ -2,7 +2,6 @@
 events per second that agree with the event counts. Nothing here is timed against a figure."""
 import csv
 
-import numpy as np
 import pytest
 
 import collisim

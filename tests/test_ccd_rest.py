@@ -100,7 +100,6 @@ def test_a_body_at_rest_flashes_no_ring_but_its_first_impact_does():
 
 
 def test_tc_model_makes_collisions_within_tc_of_the_last_elastic():
-    from collisim.engine.ccd.events import simulate_events
     # e = 0.5, no gravity: A (speed 8) hits B, then B (speed 6) hits C 1/60 s later. With tc = 10 s
     # that second collision comes within tc of B's first and is elastic: C leaves at 6 and B stops;
     # without, C leaves at 4.5 and B keeps 1.5. A ball that only meets walls keeps e.

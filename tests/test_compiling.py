@@ -8,7 +8,9 @@ import textwrap
 import numpy as np
 from numba import njit
 
-import collisim  # noqa: F401  (installs the typing policy)
+from collisim.compiling import plain_constants
+
+plain_constants()   # the typing policy, as importing collisim installs it
 
 PROBE = '''
 PAIR, WALL = 1, 0

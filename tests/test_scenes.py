@@ -3,7 +3,6 @@ map), and its opening renders to a video whose frames decode. A scene added to s
 covered without touching this file."""
 from fractions import Fraction
 
-import numpy as np
 import pytest
 
 import collisim

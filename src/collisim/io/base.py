@@ -18,6 +18,8 @@ from pathlib import Path
 import cv2
 import numpy as np
 
+from ..files import temporary_beside, written_whole
+
 
 def check_writable(folder: Path) -> list:
     """Create the output folder if needed and prove a file can be written there. Returns the
@@ -41,21 +43,6 @@ def remove_empty_folders(folders: list) -> None:
             folder.rmdir()
         except OSError:
             return
-
-
-def _plain_permissions(name) -> None:
-    """Give a file made by mkstemp/mkdtemp (private) the permissions a plain open() would give."""
-    umask = os.umask(0)
-    os.umask(umask)
-    os.chmod(name, (0o777 if os.path.isdir(name) else 0o666) & ~umask)
-
-
-def temporary_beside(path: Path, suffix: str) -> Path:
-    """A new empty hidden file next to `path` (same file system, so the final rename is atomic)."""
-    handle, name = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}-", suffix=suffix)
-    os.close(handle)
-    _plain_permissions(name)
-    return Path(name)
 
 
 def fps_fraction(fps: float) -> Fraction:
@@ -215,17 +202,12 @@ class VideoWriter:
 def write_png(path: Path, bgr: np.ndarray, background: tuple | None = None) -> None:
     """Write one frame as a PNG under a temporary name, then rename. With `background` (BGR) its
     pixels become transparent (an RGBA PNG)."""
-    name = temporary_beside(path, ".png")
-    try:
-        image = bgr if background is None else cv2.merge((*cv2.split(bgr), alpha_from_background(bgr, background)))
-        ok, data = cv2.imencode(".png", image)
-        if not ok:
-            raise ValueError(f"could not encode PNG {path}")
+    image = bgr if background is None else cv2.merge((*cv2.split(bgr), alpha_from_background(bgr, background)))
+    ok, data = cv2.imencode(".png", image)
+    if not ok:
+        raise ValueError(f"could not encode PNG {path}")
+    with written_whole(path, "PNG") as name:
         Path(name).write_bytes(data.tobytes())
-        os.replace(name, path)
-    except BaseException:
-        Path(name).unlink(missing_ok=True)
-        raise
 
 
 def mux(container, stream, frame) -> None:

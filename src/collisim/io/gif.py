@@ -20,7 +20,8 @@ from fractions import Fraction
 
 import numpy as np
 
-from .base import VideoWriter, fps_fraction, mux, temporary_beside
+from ..files import temporary_beside
+from .base import VideoWriter, fps_fraction, mux
 from .encoders import require_codec
 
 PALETTEGEN = "stats_mode=diff"          # weigh the colours of what moves, as manim does

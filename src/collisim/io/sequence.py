@@ -11,7 +11,8 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from .base import VideoWriter, _plain_permissions
+from ..files import plain_permissions
+from .base import VideoWriter
 
 PNG_LEVEL = 1   # zlib level: fast; flat animation compresses well anyway
 
@@ -36,7 +37,7 @@ class PngSequenceWriter(VideoWriter):
 
     def _make_temporary(self) -> Path:
         name = tempfile.mkdtemp(dir=self.path.parent, prefix=f".{self.path.name}-")
-        _plain_permissions(name)
+        plain_permissions(name)
         return Path(name)
 
     def _open(self) -> None:

@@ -3,8 +3,6 @@ trajectory file (`Trajectory.save`, `load_trajectory`), so a run can be rendered
 from __future__ import annotations
 
 import json
-import os
-import tempfile
 import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -12,6 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from ..arrays import grown
+from ..files import written_whole
 from ..notebook import trajectory_preview_html
 from .bodyshapes import polygons_of
 from .world import World
@@ -206,14 +205,8 @@ class Trajectory:
                     substeps=self.substeps, restitution=self.world.restitution, profile=self.profile,
                     warnings=[str(w) for w in self.warnings], storage=self.storage)
         arrays["meta"] = np.array(json.dumps(meta))
-        handle, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}-", suffix=".npz")
-        try:
-            with os.fdopen(handle, "wb") as file:
-                np.savez_compressed(file, **arrays)
-            os.replace(temporary, path)
-        except BaseException:
-            Path(temporary).unlink(missing_ok=True)
-            raise
+        with written_whole(path, "trajectory") as temporary, open(temporary, "wb") as file:
+            np.savez_compressed(file, **arrays)
         return path
 
 

@@ -21,14 +21,13 @@ save leaves nothing behind. Everything is deterministic: the same image gives th
 """
 from __future__ import annotations
 
-import os
 import zipfile
 import zlib
 from pathlib import Path
 
 import numpy as np
 
-from ..io.base import temporary_beside
+from ..files import written_whole
 from ..model.validate import number
 from .map_chains import trace_chains
 from .map_field import MapField, has_map, make_field, map_sample, no_map_field, sample_points, signed_distance_grid
@@ -134,20 +133,8 @@ class CollisionMap:
         """Write the map to a versioned .npz file (under a temporary name, renamed when complete)."""
         path = Path(path)
         arrays = self.to_arrays()
-        try:
-            temporary = temporary_beside(path, ".npz")
-        except OSError as error:
-            raise ValueError(f"cannot write collision map {path}: {error.strerror or error}") from None
-        try:
-            with open(temporary, "wb") as file:
-                np.savez_compressed(file, **arrays)
-            os.replace(temporary, path)
-        except OSError as error:
-            temporary.unlink(missing_ok=True)
-            raise ValueError(f"cannot write collision map {path}: {error.strerror or error}") from None
-        except BaseException:
-            temporary.unlink(missing_ok=True)
-            raise
+        with written_whole(path, "collision map") as temporary, open(temporary, "wb") as file:
+            np.savez_compressed(file, **arrays)
         return path
 
     @classmethod

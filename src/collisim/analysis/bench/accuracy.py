@@ -57,7 +57,6 @@ Writes accuracy.csv and accuracy_<workload>.png to the output folder.
 """
 from __future__ import annotations
 
-import csv
 import pathlib
 import sys
 import time
@@ -66,6 +65,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...files import save_figure, write_table
 from .. import metrics
 from ..compare import measure, method_label, run_method
 from ..reference.plain_pymunk import simulate_plain_pymunk, time_plain_pymunk
@@ -221,10 +221,7 @@ def measure_workload(workload: str, scene, repeats: int, bar) -> list:
 # --- output ------------------------------------------------------------------------------------
 
 def write_csv(rows: list, path: pathlib.Path) -> None:
-    with open(path, "w", newline="") as file:
-        writer = csv.DictWriter(file, fieldnames=COLUMNS)
-        writer.writeheader()
-        writer.writerows(rows)
+    write_table(path, rows, COLUMNS)
 
 
 def pareto_front(costs, errors) -> list:
@@ -253,7 +250,7 @@ def plot_workload(rows: list, path: pathlib.Path, title: str) -> None:
     panels[0].legend(loc="best", fontsize=8)
     figure.suptitle(f"Accuracy against cost: {title} (errors vs ccd, the exact method)")
     figure.tight_layout()
-    figure.savefig(path)
+    save_figure(figure, path)
 
 
 def plot_error(axes, rows: list, kind: ErrorKind) -> None:

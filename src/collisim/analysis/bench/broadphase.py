@@ -34,7 +34,6 @@ by the two references' at the same n.
 Writes ``broadphase.csv`` and ``broadphase.png`` to the output folder.
 """
 
-import csv
 import pathlib
 import sys
 import time
@@ -42,6 +41,7 @@ import time
 import numpy as np
 
 from collisim.broadphase import NAMES, make
+from collisim.files import save_figure, write_table
 
 BRUTE_MAX_N = 3000  # brute force above this would take minutes
 RADII = (1.0, 1.5, 2.0)
@@ -237,10 +237,7 @@ def add_ratios(rows: list[dict]) -> list[dict]:
 
 
 def write_csv(rows: list[dict], path: pathlib.Path) -> None:
-    with open(path, "w", newline="") as file:
-        writer = csv.DictWriter(file, fieldnames=COLUMNS)
-        writer.writeheader()
-        writer.writerows(rows)
+    write_table(path, rows, COLUMNS)
 
 
 def plot(rows: list[dict], path: pathlib.Path, packing: float) -> None:
@@ -268,7 +265,7 @@ def plot(rows: list[dict], path: pathlib.Path, packing: float) -> None:
     axes.grid(True, which="both", alpha=0.3)
     axes.legend(fontsize=8)
     figure.tight_layout()
-    figure.savefig(path)
+    save_figure(figure, path)
 
 
 def fastest_vs_ckdtree(rows: list[dict]) -> dict:

@@ -25,13 +25,13 @@ Writes ccd.csv to the output folder.
 """
 from __future__ import annotations
 
-import csv
 import pathlib
 import sys
 import time
 
 import numpy as np
 
+from ...files import write_table
 from ...engine.simulate import METHODS, stream
 from ..reference.plain_pymunk import time_plain_pymunk
 from .accuracy import lossless_substeps, warm_up
@@ -94,10 +94,7 @@ def run(out_dir, workloads=GASES, sizes=SIZES, seconds: float = 1.0, repeats: in
     out_dir = pathlib.Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     path = out_dir / "ccd.csv"
-    with open(path, "w", newline="") as file:
-        writer = csv.DictWriter(file, fieldnames=COLUMNS)
-        writer.writeheader()
-        writer.writerows(rows)
+    write_table(path, rows, COLUMNS)
     return {"csv": path, "rows": rows}
 
 

@@ -21,12 +21,12 @@ Lengths are in particle radii. Everything runs in one process, one resolution af
 """
 from __future__ import annotations
 
-import csv
 from pathlib import Path
 
 import numpy as np
 
 import collisim
+from collisim.files import save_figure, write_table
 from collisim.statics.collision_map import CollisionMap
 
 RADIUS = 0.2
@@ -162,10 +162,7 @@ def run(out_dir: Path, cells=CELLS_PER_RADIUS, seconds: float = 1.0, progress: b
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     csv_path = out_dir / "maps.csv"
-    with open(csv_path, "w", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=list(rows[0]))
-        writer.writeheader()
-        writer.writerows(rows)
+    write_table(csv_path, rows, list(rows[0]))
     png_path = chart(rows, out_dir / "maps.png")
     return {"rows": rows, "csv": str(csv_path), "png": str(png_path)}
 
@@ -207,6 +204,6 @@ def chart(rows: list, path: Path) -> Path:
     right.legend(fontsize=7)
     fig.suptitle("Collision map accuracy against resolution")
     fig.tight_layout()
-    fig.savefig(path)
+    save_figure(fig, path)
     plt.close(fig)
     return path

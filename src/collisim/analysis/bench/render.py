@@ -32,6 +32,7 @@ import numpy as np
 
 import collisim
 from collisim import palette
+from collisim.files import write_text
 from collisim.gas import lattice_gas
 from collisim.io.writers import open_writer
 from collisim.palette import default_colors
@@ -131,7 +132,7 @@ def run(out_dir: Path, seconds: float = 60.0, memory: bool = True, progress: boo
         if drawing:
             say(steps[6])
             figures["drawing"] = {"per_frame": drawing_ms(), "many_particles": many_particles_figures(folder)}
-    (out_dir / "render.json").write_text(json.dumps(figures, indent=2))
+    write_text(out_dir / "render.json", json.dumps(figures, indent=2))
     return figures
 
 
@@ -282,7 +283,7 @@ def main(argv=None) -> int:
     print(format_drawing(rows, many))
     if args.out is not None:
         args.out.mkdir(parents=True, exist_ok=True)
-        (args.out / "drawing.json").write_text(json.dumps({"per_frame": rows, "many_particles": many}, indent=2))
+        write_text(args.out / "drawing.json", json.dumps({"per_frame": rows, "many_particles": many}, indent=2))
     return 0
 
 

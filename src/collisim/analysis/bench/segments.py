@@ -16,6 +16,7 @@ import collisim
 from collisim.gas import lattice_gas
 from collisim.narrowphase.statics import touching_segments
 
+from ...files import write_text
 from .broadphase import time_discrete_step
 
 
@@ -45,6 +46,6 @@ def run(out_dir: Path, n: int = 18_000, m: int = 2_000, repeats: int = 3) -> dic
     figures = {"bodies": n, "segments": m, "seconds_per_frame_without": plain,
                "seconds_per_frame_with": statics, "ratio": statics / plain}
     path = Path(out_dir) / "segments.json"
-    path.write_text(json.dumps(figures, indent=2))
+    write_text(path, json.dumps(figures, indent=2))
     figures["json"] = str(path)
     return figures

@@ -15,6 +15,7 @@ import math
 import re
 from pathlib import Path
 
+from ...files import save_figure
 from ..bench.accuracy import ErrorKind, plot_error
 from ..compare import method_label
 
@@ -76,7 +77,7 @@ def _figure(rows: list, plot: dict, path: Path, title: str) -> None:
     panels[0].legend(loc="best", fontsize=8)
     figure.suptitle(title)
     figure.tight_layout()
-    figure.savefig(path)
+    save_figure(figure, path)
 
 
 def _pareto_panel(axes, rows: list, plot: dict, y: str) -> None:
