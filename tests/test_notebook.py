@@ -2,6 +2,7 @@
 HTML preview of a Trajectory, linked videos, and bad input."""
 import base64
 import re
+import tempfile
 
 import nbformat
 import pytest
@@ -46,10 +47,13 @@ def test_show_in_a_notebook(tmp_path):
     assert (count, width, height, codec) == (scene.frames, 640, 360, "h264")
 
 
-def test_trajectory_shows_a_short_small_preview(tmp_path):
+def test_trajectory_shows_a_short_small_preview(tmp_path, monkeypatch):
     scene = collisim.load_scene("two_bodies")
     traj = collisim.simulate(scene.replace(seconds=PREVIEW_SECONDS + 1))
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path / "temporary"))
+    (tmp_path / "temporary").mkdir()
     html = traj._repr_html_()
+    assert list((tmp_path / "temporary").iterdir()) == []   # the video is in the HTML: nothing is kept
     count, width, height, _, codec, _ = embedded_video(html, tmp_path)
     assert (count, (width, height), codec) == (int(PREVIEW_SECONDS * scene.fps), PREVIEW_SIZE, "h264")
 

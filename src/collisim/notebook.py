@@ -93,8 +93,11 @@ def show(source, *, size=(640, 360), seconds=None, embed: bool = True, settings=
 
 def trajectory_preview_html(traj) -> str:
     """The HTML a Trajectory shows in Jupyter: its first PREVIEW_SECONDS at PREVIEW_SIZE,
-    embedded. Meant as `Trajectory._repr_html_`."""
-    return show(traj, size=PREVIEW_SIZE, seconds=PREVIEW_SECONDS, embed=True)._repr_html_()
+    embedded. Meant as `Trajectory._repr_html_`. The HTML carries the whole video, so its
+    temporary folder goes at once: Jupyter makes a preview for every run a cell displays."""
+    video = show(traj, size=PREVIEW_SIZE, seconds=PREVIEW_SECONDS, embed=True)
+    shutil.rmtree(video.path.parent, ignore_errors=True)
+    return video._repr_html_()
 
 
 def first_seconds(traj, seconds: float):
