@@ -34,7 +34,7 @@ def mapped(traj, points):
 
 
 def centres(mobject) -> np.ndarray:
-    return np.array([circle.get_center() for circle in mobject.circles])
+    return np.array([circle.get_center() for circle in mobject.bodies])
 
 
 def test_renders_in_a_manim_scene_and_holds_the_last_state(manim, traj, tmp_path):
@@ -58,9 +58,9 @@ def test_renders_in_a_manim_scene_and_holds_the_last_state(manim, traj, tmp_path
     player = scene.player
     assert player.time == traj.times[-1]
     np.testing.assert_allclose(centres(player), mapped(traj, traj.positions[-1]), rtol=0, atol=1e-9)
-    radii = [circle.width / 2 for circle in player.circles]
+    radii = [circle.width / 2 for circle in player.bodies]
     np.testing.assert_allclose(radii, traj.world.radii * WIDTH / 16.0, rtol=1e-9)
-    assert [circle.get_fill_color().to_hex().lower() for circle in player.circles] == \
+    assert [circle.get_fill_color().to_hex().lower() for circle in player.bodies] == \
         ["#%02x%02x%02x" % tuple(rgb) for rgb in traj.world.colors]
 
 
@@ -97,11 +97,53 @@ def test_follows_the_group_when_it_moves_and_draws_statics(manim):
     np.testing.assert_allclose(player.segment_lines[0].get_start(), player.to_manim([[4, 1]])[0], atol=1e-9)
     player.shift([1.0, 2.0, 0.0])
     player.update(0.5)
-    np.testing.assert_allclose(player.circles[0].get_center(), player.to_manim(traj.positions[-1])[0], atol=1e-9)
+    np.testing.assert_allclose(player.bodies[0].get_center(), player.to_manim(traj.positions[-1])[0], atol=1e-9)
     with pytest.raises(ValueError, match="playback_rate must be a finite number > 0"):
         TrajectoryMobject(traj, playback_rate=0)
     with pytest.raises(ValueError, match="takes a collisim Trajectory"):
         TrajectoryMobject(world)
+
+
+def test_polygons_are_drawn_as_their_shapes_turned_with_the_bodies(manim):
+    """Each polygon body is a manim Polygon whose corners are the world's placed vertices at
+    every time played, also after the group was moved and scaled; circles stay circles."""
+    from collisim.bridges.manim import TrajectoryMobject
+
+    traj = collisim.simulate(collisim.load_scene("polygons").replace(seconds=1.0))
+    world = traj.world
+    polygons = [i for i in range(world.n) if world.vertex_start[i + 1] > world.vertex_start[i]]
+    assert 0 < len(polygons) < world.n
+    player = TrajectoryMobject(traj, width=WIDTH, center=CENTER)
+    for t, moved in ((0.0, False), (0.55, False), (1.0, True)):
+        if moved:
+            player.shift([0.5, -1.0, 0.0]).scale(0.5)
+        player.seek(t)
+        positions, angles = player.state_at(t)
+        placed = world.placed_vertices(positions, angles)
+        for i in range(world.n):
+            body = player.bodies[i]
+            if i in polygons:
+                assert isinstance(body, manim.Polygon)
+                expected = player.to_manim(placed[world.vertex_start[i]:world.vertex_start[i + 1]])
+                np.testing.assert_allclose(body.get_vertices(), expected, rtol=0, atol=1e-9)
+            else:
+                assert isinstance(body, manim.Circle)
+                np.testing.assert_allclose(body.get_center(), player.to_manim(positions[i:i + 1])[0], atol=1e-9)
+                # its radius from its anchors: a turned Circle's width also spans its Bezier handles
+                reach = np.linalg.norm(body.get_anchors() - body.get_center(), axis=1)
+                np.testing.assert_allclose(reach, player.world_scale * world.radii[i], rtol=1e-9)
+
+
+def test_a_collision_map_is_drawn_as_its_outlines(manim):
+    from collisim.bridges.manim import TrajectoryMobject
+
+    runs = collisim.simulate(collisim.load_scene("collision_map").replace(seconds=0.1))   # one run a panel
+    traj = next(run for run in runs if run.world.map is not None)
+    chains = traj.world.map.chains
+    player = TrajectoryMobject(traj, width=WIDTH, center=CENTER)
+    assert len(player.map_outlines) == len(chains) > 0
+    for outline, chain in zip(player.map_outlines, chains):
+        np.testing.assert_allclose(outline.get_vertices(), player.to_manim(chain), rtol=0, atol=1e-9)
 
 
 def test_collisim_does_not_import_manim():

@@ -10,8 +10,9 @@
 The Mobject keeps its own clock: an updater advances it by manim's dt (times playback_rate)
 and places every body at the trajectory's state interpolated linearly between the two samples
 around that time, so playback speed does not depend on the scene's frame rate. At the end of
-the trajectory it holds the last state. Circles are manim Circles in the world's colours, the
-box a Rectangle and the segments Lines; world units map to manim units by one scale and offset
+the trajectory it holds the last state. Each body is drawn as its shape in the world's colours
+(a manim Circle, or a Polygon of its vertices, turned with the body), the box as a Rectangle,
+the segments as Lines and a collision map as its outlines (closed polygons); world units map to manim units by one scale and offset
 (`width`, `center`), read back from the box's outline each frame, so the whole group can be
 moved or scaled like any other Mobject.
 
@@ -29,6 +30,7 @@ except ModuleNotFoundError as error:
     raise ImportError("the manim bridge needs the manim extra: pip install 'collisim[manim]'") from None
 
 from .. import palette
+from ..geometry.polygon import polygon_mass_properties
 from ..model.trajectory import Trajectory
 
 FRAME_FILL = 0.9  # by default the box spans this fraction of the frame's width or height
@@ -49,8 +51,9 @@ def default_width(box) -> float:
 
 
 class TrajectoryMobject(manim.VGroup):
-    """A VGroup of the box (a Rectangle), the segments (Lines) and the bodies (Circles) of a
-    Trajectory, playing it on its own clock.
+    """A VGroup of the box (a Rectangle), the statics (segments as Lines, a collision map's
+    outlines as Polygons) and the bodies (Circles and Polygons) of a Trajectory, playing it on its
+    own clock.
 
     trajectory: a collisim Trajectory (positions (F, n, 2), angles (F, n), times (F,))
     width: manim units the box spans horizontally (None: the largest that fits the frame)
@@ -59,7 +62,8 @@ class TrajectoryMobject(manim.VGroup):
     Other keyword arguments go to manim.VGroup.
 
     Attributes: `time` (trajectory seconds played, from 0 to `end_time`), `outline`,
-    `segment_lines`, `circles` (one per body, in body order). `seek(t)` places the bodies at
+    `segment_lines`, `map_outlines` (empty without a map), `bodies` (one Circle or Polygon per
+    body, in body order). `seek(t)` places the bodies at
     trajectory time t; `to_manim(points)` maps world points (k, 2) to manim points (k, 3).
     """
 
@@ -83,11 +87,12 @@ class TrajectoryMobject(manim.VGroup):
         self.segment_lines = manim.VGroup(*(
             manim.Line(*self.to_manim(np.reshape(segment, (2, 2))), color=hex_color(palette.BOX), stroke_width=3)
             for segment in world.segments))
-        self.circles = manim.VGroup(*(
-            manim.Circle(radius=scale * r, color=hex_color(rgb), fill_opacity=1.0, stroke_width=0)
-            for r, rgb in zip(world.radii, world.colors)))
-        self._drawn_angles = np.zeros(world.n)  # the angle each circle is turned to now
-        self.add(self.outline, self.segment_lines, self.circles)
+        chains = [] if world.map is None else world.map.chains
+        self.map_outlines = manim.VGroup(*(
+            manim.Polygon(*self.to_manim(chain), color=hex_color(palette.BOX), stroke_width=2) for chain in chains))
+        self.bodies = manim.VGroup(*(_body_shape(world, i, scale) for i in range(world.n)))
+        self._drawn_angles = np.zeros(world.n)  # the angle each body is turned to now
+        self.add(self.outline, self.map_outlines, self.segment_lines, self.bodies)
         self.seek(0.0)
         self.add_updater(self._advance)
 
@@ -130,17 +135,38 @@ class TrajectoryMobject(manim.VGroup):
         self.time = min(max(float(t), 0.0), self.end_time)
         positions, angles = self.state_at(self.time)
         centres = self.to_manim(positions)
-        for i, circle in enumerate(self.circles):
-            circle.move_to(centres[i])
+        for i, body in enumerate(self.bodies):
+            body.shift(centres[i] - body_centre(body))
             turn = angles[i] - self._drawn_angles[i]
             if turn != 0.0:  # a circle looks the same turned, but a user may have added a marker to it
-                circle.rotate(turn, about_point=centres[i])
+                body.rotate(turn, about_point=centres[i])
                 self._drawn_angles[i] = angles[i]
         return self
 
     def _advance(self, mobject, dt: float) -> None:
         """The updater: manim calls it once per frame with the frame's dt in scene seconds."""
         self.seek(self.time + dt * self.playback_rate)
+
+
+def _body_shape(world, i: int, scale: float):
+    """Body i at angle 0 about the manim origin, `scale` manim units per world unit: a Circle of
+    its radius, or a Polygon of its vertices about its centroid."""
+    style = dict(color=hex_color(world.colors[i]), fill_opacity=1.0, stroke_width=0)
+    vertices = world.body_vertices[world.vertex_start[i]:world.vertex_start[i + 1]]
+    if len(vertices) == 0:
+        return manim.Circle(radius=scale * world.radii[i], **style)
+    return manim.Polygon(*np.column_stack([scale * vertices, np.zeros(len(vertices))]), **style)
+
+
+def body_centre(body) -> np.ndarray:
+    """The manim point (3,) a body's trajectory position maps to: a Circle's centre, a Polygon's
+    centroid (the point it turns about; its bounding box's centre, manim's get_center, is not).
+    Read from the shape as drawn, so it follows the group when it is moved or scaled."""
+    if isinstance(body, manim.Circle):
+        return body.get_center()
+    corners = body.get_vertices()
+    _, centroid, _ = polygon_mass_properties(corners[:, :2])
+    return np.array([centroid[0], centroid[1], corners[0, 2]])
 
 
 def _check_positive(name: str, value) -> float:
