@@ -221,3 +221,25 @@ def test_sampled_speeds_picks_frames_from_a_time_on():
     velocities = np.arange(11, dtype=float)[:, None, None] * np.array([[[3.0, 4.0]]])
     traj = trajectory(np.zeros((11, 1, 2)), velocities)
     np.testing.assert_allclose(metrics.sampled_speeds(traj, 0.5, 0.2), [25.0, 35.0, 45.0])
+
+
+def test_overlaps_with_polygons_are_the_deepest_contact_over_the_smaller_radius():
+    """Two unit squares overlapping by 0.1 along x, turned a quarter turn (the same squares), and
+    a circle of radius 0.5 reaching 0.25 into the second one's far face: closed forms for each
+    frame, in radii of the smaller body (a square's bounding radius is √½)."""
+    from collisim.shapes import box as square
+    half_diagonal = np.sqrt(0.5)
+    world = World([[0.0, 0.0], [5.0, 0.0], [10.0, 0.0]], radii=[1.0, 1.0, 0.5],
+                  polygons=[square(1, 1), square(1, 1), None], box=(-100, -100, 100, 100))
+    positions = np.array([[[0.0, 0.0], [0.9, 0.0], [5.0, 0.0]],          # squares 0.1 deep
+                          [[0.0, 0.0], [0.9, 0.0], [1.65, 0.0]],         # and the circle 0.25 into square 1
+                          [[0.0, 0.0], [3.0, 0.0], [6.0, 0.0]]])         # nothing touches
+    angles = np.array([[0.0, 0.0, 0.0], [np.pi / 2, 0.0, 0.0], [0.0, 0.0, 0.0]])
+    zeros = np.zeros(3, np.int64)
+    traj = Trajectory(times=np.arange(3) / FPS, positions=positions, velocities=np.zeros_like(positions),
+                      angles=angles, angular_velocities=np.zeros((3, 3)), wall_collisions=zeros,
+                      pair_collisions=zeros, segment_collisions=zeros, candidates=zeros,
+                      approximate=np.zeros(3, bool), world=world, fps=FPS, events=Events.empty())
+    expected = [0.1 / half_diagonal, 0.25 / 0.5, 0.0]
+    np.testing.assert_allclose(metrics.overlaps(traj), expected, rtol=1e-9, atol=1e-12)
+    assert metrics.max_overlap(traj) == pytest.approx(0.5, rel=1e-9)

@@ -21,7 +21,8 @@ Each row (a dict of plain numbers, ready for JSON):
 
 A world with polygons (scenes/polygons.py) runs under discrete and pymunk; ccd refuses it, and
 its row says so ("ccd: could not run (...)"), with position_error None for every row. max_overlap
-and missed_pairs measure circles (centre distances against radii), so they are None ("n/a") for
+is the narrow phase's deepest contact there, over the smaller body's radius (a polygon's bounding
+circle's); missed_pairs measures circles (centre paths against radii), so it is None ("n/a") for
 such a world; energy counts rotation (World.inertias), which both engines record.
 
 Where pymunk and collisim differ, and which one is right
@@ -221,13 +222,13 @@ def measure(world, traj, reference, horizon: float, cost=None) -> dict:
     `reference` is the ccd trajectory for position_error (None leaves it None), `horizon` when
     to compare positions, `cost` is passed through as the row's wall seconds per simulated second."""
     outside_end, outside_ever = metrics.outside(traj, world)
-    circles = bool(np.all(world.shapes == CIRCLE))   # overlaps and pass-throughs measure circles
+    circles = bool(np.all(world.shapes == CIRCLE))   # pass-throughs measure circles
     pushed = traj.wall_collisions.sum() + traj.segment_collisions.sum() > 0 or np.any(world.accelerations != 0)
     return dict(
         cost=cost,
         energy_drift=metrics.energy_drift(traj, world),
         momentum_drift=None if pushed else metrics.momentum_drift(traj),
-        max_overlap=metrics.max_overlap(traj) if circles else None,
+        max_overlap=metrics.max_overlap(traj),
         outside_end=outside_end, outside_ever=outside_ever,
         missed_pairs=int(metrics.missed_collisions(traj).sum()) if circles else None,
         missed_segments=int(metrics.missed_segment_crossings(traj, world).sum()),

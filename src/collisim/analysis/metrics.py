@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..model.kinds import N_WALLS, PAIR, SUPPORT, WALL
+from ..model.kinds import CIRCLE, N_WALLS, PAIR, SUPPORT, WALL
 
 # An event at time t belongs to the interval (t_{f-1}, t_f]. Discrete steps stamp events with
 # step_count·dt, which can differ from f/fps in the last bit: this slack (in frames) absorbs it.
@@ -63,7 +63,9 @@ def _relative_change(change, scale) -> float:
 # --- geometry: overlaps, escapes ---------------------------------------------------------------
 
 def overlaps(traj) -> np.ndarray:
-    """(F,) the largest pair overlap in each frame, (r_i + r_j − d) / min(r_i, r_j), 0 if none.
+    """(F,) the largest pair overlap in each frame, its depth over the smaller body's radius
+    (a polygon's: its bounding circle's), 0 if none. For circles the depth is r_i + r_j − d; with
+    polygons it is the narrow phase's (narrowphase.registry.contacts, at each frame's angles).
 
     Candidates come from the grid broad phase per frame, so the cost is about linear in n.
     """
@@ -74,6 +76,8 @@ def overlaps(traj) -> np.ndarray:
     worst = np.zeros(len(traj.times))
     if len(radii) < 2:
         return worst
+    if np.any(traj.world.shapes != CIRCLE):
+        return _shape_overlaps(traj, worst)
     for f, positions in enumerate(traj.positions):
         pairs = grid.pairs(positions - radii[:, None], positions + radii[:, None])
         if len(pairs):
@@ -81,6 +85,19 @@ def overlaps(traj) -> np.ndarray:
             distance = np.linalg.norm(positions[j] - positions[i], axis=1)
             depth = (radii[i] + radii[j] - distance) / np.minimum(radii[i], radii[j])
             worst[f] = max(float(depth.max()), 0.0)
+    return worst
+
+
+def _shape_overlaps(traj, worst) -> np.ndarray:
+    """overlaps for a world with polygons: every frame's deepest contact, in radii."""
+    from ..narrowphase.registry import contacts
+
+    radii = traj.world.radii
+    for f in range(len(traj.times)):
+        found = contacts(traj.world, traj.positions[f], traj.angles[f])
+        if len(found["depths"]):
+            i, j = found["pairs"][:, 0], found["pairs"][:, 1]
+            worst[f] = max(float(np.max(found["depths"] / np.minimum(radii[i], radii[j]))), 0.0)
     return worst
 
 
