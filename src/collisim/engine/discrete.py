@@ -33,6 +33,7 @@ from ..broadphase.step import AUTO, candidate_pairs, choose, step_state
 from ..geometry.polygon import place_polygons
 from ..model.kinds import CIRCLE, MAP, N_WALLS, PAIR, SEGMENT, SUPPORT, WALL
 from ..narrowphase.hierarchy import NOT_COUNTED, level_scratch, record_levels
+from ..response.hold import held_note
 from ..response.rows import (margin_of, margins, near_segments, new_found, new_rows, pair_manifolds, rows_from,
                              segment_manifolds, wall_manifolds)
 from ..response.solver import collide, come_to_rest, solve_positions, solve_velocities
@@ -249,10 +250,12 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
                 collide(rows, count, v, w, b.accelerations, m, inertia, s.restitution, s.friction, s.rest_speed, dt,
                         s.iterations)
                 recall(rows, count, memory, n, statics_count)
-                solve_velocities(rows, count, v, w, b.accelerations, m, inertia, s.friction, dt, s.iterations, push,
-                                 push_turn)
-                solve_positions(rows, count, v, w, b.accelerations, m, inertia, dt, s.iterations, push, push_turn,
-                                shift, shift_turn)
+                held = solve_velocities(rows, count, v, w, b.accelerations, m, inertia, s.friction, dt, s.iterations,
+                                        push, push_turn)
+                held += solve_positions(rows, count, v, w, b.accelerations, m, inertia, dt, s.iterations, push,
+                                        push_turn, shift, shift_turn)
+                if held > 0:   # the solver held a stack from below: momentum is not exact (solver.py)
+                    out.approximate[frame] = True
             t = _lap(phase_cycles, RESPONSE, t)
             integrate(b.positions, b.velocities, b.accelerations, b.angles, b.angular_velocities, dt)
             if count > 0:
@@ -390,6 +393,8 @@ class DiscreteStepper:
         self.log, self.memory, self.contacts = self.profile.timed(lambda phase_cycles: run_frames(
             b, self.statics, self.broad, self.sleep, self.dt, self.substeps, self.step_count, out, self.log,
             self.memory, self.contacts, self.work, phase_cycles))
+        if out.approximate.any() and not self.warnings:
+            self.warnings.append(held_note(self.step_count // self.substeps + 1 + int(np.argmax(out.approximate))))
         self.step_count += count * self.substeps
         if not turning:
             out = constant_angles(out, b.angles.copy(), b.angular_velocities.copy())

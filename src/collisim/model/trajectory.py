@@ -114,7 +114,8 @@ class Trajectory:
                        ending at each frame (0 at t = 0)
     candidates: (F,)   broad-phase candidate pairs of the last step of each frame
     approximate: (F,) bool  frames the method could not finish exactly (ccd over its event
-                       budget: finished by an approximate step); False everywhere else
+                       budget: finished by an approximate step; discrete holding a heavy body up
+                       from below, response/hold.py); False everywhere else
     hierarchy: (F, 4)  the slides' funnel at each frame's state: how many pairs pass each of
                        LEVELS in turn (bounding circles, boxes, oriented boxes overlap; the shapes
                        touch), so column 3 counts the pairs truly touching and

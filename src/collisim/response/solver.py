@@ -29,6 +29,10 @@ rows of response/rows.py:
 4. **rest**, on the final velocities: the rows that pressed leave at relative normal velocity 0
    (and friction takes out what sliding it can) — a resting contact does not bounce.
 
+**Held from below** (hold.py): where the sweeps cannot carry a heavy body's weight down a stack
+of much lighter ones, the rows left short are held once more from the ground up, and the frame
+is flagged approximate.
+
 Per-body vectors are (lin (n, 2), ang (n,)): a velocity and a turning rate, or their changes.
 Bodies' inertia comes as inverse_masses (n,) and inverse_inertias (n,): 1/m and 1/I.
 """
@@ -37,6 +41,7 @@ from numba import njit
 
 from .contact_row import (block, couplings, friction_kick, inverses, kicked, load, load_mean, meets, relative,
                           store, together, zero_bodies)
+from .hold import hold_from_below, pull
 from .impulse import newton_impulse
 
 POSITION_RATE = 0.2   # the fraction of an overlap (beyond the slop) removed per step
@@ -146,7 +151,7 @@ def solve_velocities(rows, count, lin, ang, accelerations, inverse_masses, inver
     """Steps 1 and 2, from the velocities (lin, ang): the contact impulses rows.impulse and
     rows.friction, and the change they make to each body's mean velocity, push_lin (n, 2) and
     push_ang (n,) (zeroed here for the rows' bodies, the only ones it sets; the mean velocity is
-    lin + ½·a·dt + push)."""
+    lin + ½·a·dt + push). Returns the number of rows held from below (hold_from_below)."""
     zero_bodies(rows, count, push_lin, push_ang)
     # each row's relative velocity without contact impulses: the same in every sweep
     base = _along_rows(rows, count, lin, ang, accelerations, dt, False)
@@ -218,6 +223,11 @@ def solve_velocities(rows, count, lin, ang, accelerations, inverse_masses, inver
         if change <= TOLERANCE * scale or (friction > 0.0 and sweep + 1 >= STALL_AFTER and change > STALL * before):
             break
         before = change
+    slack = np.empty(count)   # late: still closing faster than half a step of its bodies' pull (hold.py)
+    for r in range(count):
+        slack[r] = 0.5 * dt * pull(accelerations, I[r], J[r])
+    return hold_from_below(rows, np.arange(count), target, base, slack, accelerations, inverse_masses,
+                           inverse_inertias, push_lin, push_ang, 0.5)
 
 
 @njit(cache=True)
@@ -226,14 +236,14 @@ def solve_positions(rows, count, lin, ang, accelerations, inverse_masses, invers
                     shift_lin, shift_ang):
     """Step 3: pseudo-velocities shift_lin (n, 2), shift_ang (n,) (zeroed here for the rows'
     bodies, the only ones it sets) that take overlaps beyond the slop out at POSITION_RATE a step,
-    given the solved mean velocities."""
+    given the solved mean velocities. Returns the number of rows held from below."""
     zero_bodies(rows, count, shift_lin, shift_ang)
     rows.pseudo[:count] = 0.0
     I, J, N, L, pseudo = rows.i, rows.j, rows.normal, rows.lever, rows.pseudo
     gap, slop, mass = rows.gap, rows.slop, rows.mass
     over = np.flatnonzero(-gap[:count] - slop[:count] > 0.0)   # the rows with an overlap to take out
     if over.shape[0] == 0:
-        return
+        return 0
     solved = np.empty(over.shape[0])   # each one's relative normal velocity after the solve
     goal = np.empty(over.shape[0])     # and the speed that takes out its share of the overlap
     for k in range(over.shape[0]):
@@ -260,6 +270,9 @@ def solve_positions(rows, count, lin, ang, accelerations, inverse_masses, invers
                 pseudo[r] = total
         if change <= TOLERANCE * scale:
             break
+    # a row held when less than half of its share of the overlap was taken out
+    return hold_from_below(rows, over, goal, solved, 0.5 * goal, accelerations, inverse_masses, inverse_inertias,
+                           shift_lin, shift_ang, 1.0)
 
 
 @njit(cache=True)
