@@ -174,8 +174,8 @@ def _contact_phases(bodies, statics, broad, sleep, dt, margin, lo, hi, vertices,
                        sleep.asleep)
     if sleep.sleeping[0] > 0:
         keep_touching(sleep, b, vertices, pairs, touching, prior[0], prior[1], statics.volumes)
-    k = wall_manifolds(b, vertices, margin, statics.box, statics.rest_speed, in_pair, found, k, statics.volumes,
-                       sleep.asleep)
+    k = wall_manifolds(b, vertices, margin, dt, statics.box, statics.rest_speed, in_pair, found, k,
+                       statics.volumes, sleep.asleep)
     if near > 0:
         k = segment_manifolds(b, vertices, margin, statics.segments, found, k, statics.volumes, sleep.asleep)
     found, k = circle_segment_rows(b, statics, margin, in_pair, held, found, k, sleep.asleep)

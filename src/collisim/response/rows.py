@@ -7,7 +7,10 @@ Rows are made from the state at the *start* of the step, before anything moves:
   if the step would close the gap past zero (so an impact stops the bodies where they meet
   instead of sinking one into the other, and a ball resting on a ball is held by it);
 * a polygon and a segment within its margin (segment_manifolds);
-* a body and a box wall: a polygon within its margin of the wall always; a circle when it is
+* a body and a box wall: a polygon within reach of the wall always — its reach there is how far
+  it can move in the step, not capped at its radius as a margin is, since a box wall may not be
+  passed at any speed (a box of 0.01 falling at 10 units a frame went through the floor and
+  came to rest below it); a circle when it is
   within its margin and either meets the wall slower than the rest speed (it rests there) or
   touches another body this step (a pile must be held by the floor in the same solve as by its
   neighbours). A lone circle's fast impact is left to the wall bounce (response/statics.py),
@@ -82,9 +85,15 @@ def margins(velocities, angular_velocities, accelerations, radii, dt, out):
 @uncounted
 def margin_of(velocities, angular_velocities, accelerations, radii, dt, i):
     """Body i's speculative margin (margins)."""
+    return max(min(_travel(velocities, angular_velocities, accelerations, radii, dt, i), radii[i]), MARGIN * radii[i])
+
+
+@uncounted
+def _travel(velocities, angular_velocities, accelerations, radii, dt, i):
+    """How far any point of body i can move in a step of dt."""
     speed = length(velocities[i, 0], velocities[i, 1]) + abs(angular_velocities[i]) * radii[i]
     pull = length(accelerations[i, 0], accelerations[i, 1])
-    return max(min(speed * dt + pull * dt * dt, radii[i]), MARGIN * radii[i])
+    return speed * dt + pull * dt * dt
 
 
 # a found manifold's record (new_found): the bodies (j = -1 for a static, `wall` naming it), the
@@ -188,7 +197,7 @@ def pair_manifolds(bodies, vertices, margin, dt, pairs, found, k, in_pair, touch
 
 
 @njit(cache=True)
-def wall_manifolds(bodies, vertices, margin, box, rest_speed, in_pair, found, k, polygons, asleep):
+def wall_manifolds(bodies, vertices, margin, dt, box, rest_speed, in_pair, found, k, polygons, asleep):
     """Record after found[:k] the manifolds of bodies held by a box wall (see the module's rule).
     in_pair (n,) bool: bodies in a pair's manifold; polygons as for pair_manifolds. Returns the
     new record count. No overlap of a wall is tolerated: a wall cannot give way. Sleepers (asleep
@@ -201,12 +210,14 @@ def wall_manifolds(bodies, vertices, margin, box, rest_speed, in_pair, found, k,
         for wall in range(4):
             axis, bound, inward = wall_geometry(box, wall, radii[i])
             gap = (positions[i, axis] - bound) * inward   # of the body's bounding circle
-            if shapes[i] != CIRCLE:
-                if gap > APART * margin[i]:
+            if shapes[i] != CIRCLE:   # its reach: the whole step's travel (the module)
+                reach = max(margin[i], _travel(velocities, bodies.angular_velocities, bodies.accelerations, radii,
+                                               dt, i))
+                if gap > APART * reach:
                     continue
-                m = body_wall_manifold(polygons, vertices, start, i, box, wall, margin[i])
-                if _reaches(m, margin[i]):
-                    k = _record(found, k, i, -1, wall, margin[i], 0.0, m)
+                m = body_wall_manifold(polygons, vertices, start, i, box, wall, reach)
+                if _reaches(m, reach):
+                    k = _record(found, k, i, -1, wall, reach, 0.0, m)
                 continue
             if gap >= margin[i]:
                 continue
