@@ -30,10 +30,10 @@ HOLD_RATIO = 10.0   # an upper body this many times heavier than the lower one: 
 @njit(cache=True)
 def pull(accelerations, i, j):
     """The larger acceleration of a row's bodies (a wall's is 0)."""
-    pull = (accelerations[i, 0] ** 2 + accelerations[i, 1] ** 2) ** 0.5
+    largest = (accelerations[i, 0] ** 2 + accelerations[i, 1] ** 2) ** 0.5
     if j >= 0:
-        pull = max(pull, (accelerations[j, 0] ** 2 + accelerations[j, 1] ** 2) ** 0.5)
-    return pull
+        largest = max(largest, (accelerations[j, 0] ** 2 + accelerations[j, 1] ** 2) ** 0.5)
+    return largest
 
 
 @njit(cache=True)
@@ -57,16 +57,17 @@ def _below_is_j(rows, r, accelerations):
 
 
 @njit(cache=True)
-def hold_from_below(rows, rows_of, target, base, slack, accelerations, inverse_masses, inverse_inertias, lin, ang,
-                    share):
-    """After a pass's sweeps: if rows rows_of[k] still close faster than target[k] - slack[k]
-    (a closing is base[k] plus what lin (n, 2), ang (n,) add) and one of the rows is a pair whose
-    upper body is HOLD_RATIO times heavier than its lower one, hold every row short of its
+def hold_from_below(rows, rows_of, target, base, per_pull, per_target, accelerations, inverse_masses,
+                    inverse_inertias, lin, ang, share):
+    """After a pass's sweeps: if one of the rows rows_of[k] is a pair whose upper body is
+    HOLD_RATIO times heavier than its lower one, and a row still closes faster than target[k] less
+    its slack, per_pull times its bodies' pull plus per_target times target[k] (a closing is
+    base[k] plus what lin (n, 2), ang (n,) add), hold every row short of its
     target once more, lowest point first, moving only its upper body (the one its bodies' pull
     points away from; a wall holds its body as a sweep does): the upper body alone takes the
     impulse that brings the row to its target, and an impulse moves lin by `share` of it. Rows
     that meet their target are left alone, and nothing happens where nothing pulls. Returns the
-    number of rows held.
+    number of rows left short (0: nothing was held).
 
     The held impulses are not added to the rows' accumulated ones: those are what the next step's
     sweeps start from (warmstart.py), and these, which push the upper body with no reaction on the
@@ -74,20 +75,28 @@ def hold_from_below(rows, rows_of, target, base, slack, accelerations, inverse_m
     step. (Added in, a heavy ball on a column of five at 1000:1 overlapped 0.15 radii and was still
     moving at 0.7 units/s after 3 s; kept apart, 0.06 radii and 0.3 units/s.)"""
     I, J, N, L = rows.i, rows.j, rows.normal, rows.lever
+    heavy_on_light = False   # looked for first: most steps have none, and cost no more than this
+    for k in range(rows_of.shape[0]):
+        r = rows_of[k]
+        if J[r] >= 0:
+            upper, lower = (I[r], J[r]) if _below_is_j(rows, r, accelerations) else (J[r], I[r])
+            if inverse_masses[lower] >= HOLD_RATIO * inverse_masses[upper]:
+                heavy_on_light = True
+                break
+    if not heavy_on_light:
+        return 0
     short = np.empty(rows_of.shape[0], np.int64)   # the rows short of their target, with a pull
-    count, late, heavy_on_light = 0, False, False
+    count, late = 0, False
     for k in range(rows_of.shape[0]):
         r = rows_of[k]
         i, j = I[r], J[r]
         closing = base[k] + relative(load(lin, ang, i, j), j, N[r, 0], N[r, 1], L[r, 0], L[r, 2])
-        if closing < target[k] and pull(accelerations, i, j) > 0.0:
+        strength = pull(accelerations, i, j)
+        if closing < target[k] and strength > 0.0:
             short[count] = k
             count += 1
-            late = late or closing < target[k] - slack[k]
-        if j >= 0 and not heavy_on_light:
-            upper, lower = (i, j) if _below_is_j(rows, r, accelerations) else (j, i)
-            heavy_on_light = inverse_masses[lower] >= HOLD_RATIO * inverse_masses[upper]
-    if not (late and heavy_on_light):
+            late = late or closing < target[k] - per_pull * strength - per_target * target[k]
+    if not late:
         return 0
     heights = np.empty(count)
     for c in range(count):

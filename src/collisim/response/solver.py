@@ -41,7 +41,7 @@ from numba import njit
 
 from .contact_row import (block, couplings, friction_kick, inverses, kicked, load, load_mean, meets, relative,
                           store, together, zero_bodies)
-from .hold import hold_from_below, pull
+from .hold import hold_from_below
 from .impulse import newton_impulse
 
 POSITION_RATE = 0.2   # the fraction of an overlap (beyond the slop) removed per step
@@ -223,10 +223,8 @@ def solve_velocities(rows, count, lin, ang, accelerations, inverse_masses, inver
         if change <= TOLERANCE * scale or (friction > 0.0 and sweep + 1 >= STALL_AFTER and change > STALL * before):
             break
         before = change
-    slack = np.empty(count)   # late: still closing faster than half a step of its bodies' pull (hold.py)
-    for r in range(count):
-        slack[r] = 0.5 * dt * pull(accelerations, I[r], J[r])
-    return hold_from_below(rows, np.arange(count), target, base, slack, accelerations, inverse_masses,
+    # late: still closing faster than half a step of its bodies' pull (hold.py)
+    return hold_from_below(rows, np.arange(count), target, base, 0.5 * dt, 0.0, accelerations, inverse_masses,
                            inverse_inertias, push_lin, push_ang, 0.5)
 
 
@@ -271,7 +269,7 @@ def solve_positions(rows, count, lin, ang, accelerations, inverse_masses, invers
         if change <= TOLERANCE * scale:
             break
     # a row held when less than half of its share of the overlap was taken out
-    return hold_from_below(rows, over, goal, solved, 0.5 * goal, accelerations, inverse_masses, inverse_inertias,
+    return hold_from_below(rows, over, goal, solved, 0.0, 0.5, accelerations, inverse_masses, inverse_inertias,
                            shift_lin, shift_ang, 1.0)
 
 
