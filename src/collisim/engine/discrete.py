@@ -8,7 +8,8 @@ One step of dt is the pipeline below, each phase timed into the profile (engine/
     narrow        contact rows: pairs within their margins, bodies held by a wall
                   (response/rows.py)
     response      impacts (Newton's impulse), then the contact solver: warm-started sequential
-                  impulses and split-impulse position correction (response/solver.py)
+                  impulses, split-impulse position correction (response/solver.py), held from
+                  below where a heavy body rests on light ones (response/hold.py)
     integrate     p += v·dt + ½·a·dt², v += a·dt, θ += ω·dt, plus the solver's share; then
                   contacts that pressed come to rest (response)
     statics       segments near each body (statics/segment_index.py), the collision map
@@ -18,9 +19,8 @@ One step of dt is the pipeline below, each phase timed into the profile (engine/
     record        the frame's state into the trajectory, and how many of its pairs pass each
                   level of the bounding volumes (narrowphase/hierarchy.py; worlds with polygons)
 
-A frame is k substeps of dt/k. The whole block of frames runs as one compiled call (a Python
-call per phase would cost more than the work at a thousand bodies); with fewer than two
-bodies no pair phase runs.
+A frame is k substeps of dt/k, and a block of frames one compiled call (a Python call per phase
+would cost more than the work at a thousand bodies); with fewer than two bodies no pair phase runs.
 """
 from __future__ import annotations
 
@@ -250,12 +250,11 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
                 collide(rows, count, v, w, b.accelerations, m, inertia, s.restitution, s.friction, s.rest_speed, dt,
                         s.iterations)
                 recall(rows, count, memory, n, statics_count)
-                held = solve_velocities(rows, count, v, w, b.accelerations, m, inertia, s.friction, dt, s.iterations,
-                                        push, push_turn)
-                held += solve_positions(rows, count, v, w, b.accelerations, m, inertia, dt, s.iterations, push,
-                                        push_turn, shift, shift_turn)
-                if held > 0:   # the solver held a stack from below: momentum is not exact (solver.py)
-                    out.approximate[frame] = True
+                propped = solve_velocities(rows, count, v, w, b.accelerations, m, inertia, s.friction, dt,
+                                           s.iterations, push, push_turn)
+                propped += solve_positions(rows, count, v, w, b.accelerations, m, inertia, dt, s.iterations, push,
+                                           push_turn, shift, shift_turn)   # > 0: held from below (hold.py)
+                out.approximate[frame] = out.approximate[frame] or propped > 0   # momentum is not exact
             t = _lap(phase_cycles, RESPONSE, t)
             integrate(b.positions, b.velocities, b.accelerations, b.angles, b.angular_velocities, dt)
             if count > 0:
