@@ -41,9 +41,7 @@ def written_whole(path, what: str):
         raise ValueError(f"cannot write {what} {path}: {error.strerror or error}") from None
     try:
         yield temporary
-        if path.is_dir():
-            raise ValueError(f"cannot write {what} {path}: it is a folder")
-        os.replace(temporary, path)
+        os.replace(temporary, path)   # onto a folder: IsADirectoryError, said as below
     except OSError as error:
         temporary.unlink(missing_ok=True)
         raise ValueError(f"cannot write {what} {path}: {error.strerror or error}") from None

@@ -71,13 +71,13 @@ def overlaps(traj) -> np.ndarray:
     """
     from ..broadphase import make
 
-    grid = make("grid")
     radii = traj.radii
     worst = np.zeros(len(traj.times))
     if len(radii) < 2:
         return worst
     if np.any(traj.world.shapes != CIRCLE):
         return _shape_overlaps(traj, worst)
+    grid = make("grid")
     for f, positions in enumerate(traj.positions):
         pairs = grid.pairs(positions - radii[:, None], positions + radii[:, None])
         if len(pairs):
@@ -102,7 +102,7 @@ def _shape_overlaps(traj, worst) -> np.ndarray:
 
 
 def max_overlap(traj) -> float:
-    """The largest pair overlap over all frames, in radii of the smaller circle."""
+    """The largest pair overlap over all frames, in radii of the smaller body (overlaps)."""
     return float(overlaps(traj).max()) if len(traj.times) else 0.0
 
 

@@ -12,9 +12,9 @@ and places every body at the trajectory's state interpolated linearly between th
 around that time, so playback speed does not depend on the scene's frame rate. At the end of
 the trajectory it holds the last state. Each body is drawn as its shape in the world's colours
 (a manim Circle, or a Polygon of its vertices, turned with the body), the box as a Rectangle,
-the segments as Lines and a collision map as its outlines (closed polygons); world units map to manim units by one scale and offset
-(`width`, `center`), read back from the box's outline each frame, so the whole group can be
-moved or scaled like any other Mobject.
+the segments as Lines and a collision map as its outlines (closed polygons); world units map to
+manim units by one scale and offset (`width`, `center`), read back from the box's outline each
+frame, so the whole group can be moved or scaled like any other Mobject.
 
 This module needs manim (the `manim` extra); `import collisim` never imports it.
 """
@@ -63,8 +63,8 @@ class TrajectoryMobject(manim.VGroup):
 
     Attributes: `time` (trajectory seconds played, from 0 to `end_time`), `outline`,
     `segment_lines`, `map_outlines` (empty without a map), `bodies` (one Circle or Polygon per
-    body, in body order). `seek(t)` places the bodies at
-    trajectory time t; `to_manim(points)` maps world points (k, 2) to manim points (k, 3).
+    body, in body order). `seek(t)` places the bodies at trajectory time t; `to_manim(points)`
+    maps world points (k, 2) to manim points (k, 3).
     """
 
     def __init__(self, trajectory: Trajectory, *, width: float | None = None, center=manim.ORIGIN,
