@@ -131,3 +131,13 @@ def test_a_grown_log_keeps_its_events_and_copies_only_what_it_holds():
     assert kept.shape == (30,) and kept[:4].tolist() == [0.0, 1.0, 2.0, 3.0]
     assert grown(marked, 12).shape == (20,) and grown(marked, 12)[:10].tolist() == marked.tolist()
     assert grown(marked, 5) is marked
+
+
+@pytest.mark.parametrize("shape", [(5,), (5, 2), (5, 3, 2), (0, 2)])
+def test_copy_rows_copies_the_first_rows_and_leaves_the_rest(shape):
+    from collisim.arrays import copy_rows
+    source = np.random.default_rng(1).normal(size=shape)
+    target = np.full((7,) + shape[1:], -1.0)
+    count = min(3, shape[0])
+    copy_rows(source, target, count)
+    assert np.array_equal(target[:count], source[:count]) and np.all(target[count:] == -1.0)

@@ -116,7 +116,7 @@ def test_a_state_that_overflows_is_refused_at_its_first_frame_whatever_the_block
 def test_the_frame_named_is_the_first_not_finite_counted_from_the_block_start(field):
     import importlib
     simulating = importlib.import_module("collisim.engine.simulate")   # the module, not the function
-    from collisim.engine.discrete import new_frames
+    from collisim.engine.frames import new_frames
 
     scene = collisim.Scene(world=collisim.World(positions=[[5, 5], [2, 2]], radii=0.5), fps=30, seconds=1.0)
     frames = new_frames(6, 2)

@@ -13,6 +13,16 @@ def grown(array, size, used=-1):
     if size <= array.shape[0]:
         return array
     bigger = np.empty((max(size, 2 * array.shape[0]),) + array.shape[1:], array.dtype)
-    kept = array.shape[0] if used < 0 else used
-    bigger[:kept] = array[:kept]
+    copy_rows(array, bigger, array.shape[0] if used < 0 else used)
     return bigger
+
+
+@njit(cache=True)
+def copy_rows(source, target, count):
+    """target[:count] = source[:count], for C-contiguous arrays whose rows have the same shape,
+    as a plain loop: numba compiles a slice assignment with the message it raises when the shapes
+    differ, and that message's string formatting was 3.5 s of a first run's compiling."""
+    width = source.size // source.shape[0] if source.shape[0] > 0 else 0
+    flat_source, flat_target = source.reshape(source.size), target.reshape(target.size)
+    for k in range(count * width):
+        flat_target[k] = flat_source[k]

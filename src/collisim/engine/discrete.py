@@ -29,16 +29,18 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
+from ..arrays import copy_rows
 from ..broadphase.step import AUTO, candidate_pairs, choose, step_state
 from ..geometry.polygon import place_polygons
 from ..model.kinds import CIRCLE, MAP, N_WALLS, PAIR, SEGMENT, SUPPORT, WALL
-from ..narrowphase.hierarchy import NOT_COUNTED, level_scratch, record_levels
+from ..narrowphase.hierarchy import level_scratch, record_levels
 from ..response.hold import held_note
 from ..response.rows import (margin_of, margins, near_segments, new_found, new_rows, pair_manifolds, rows_from,
                              segment_manifolds, wall_manifolds)
 from ..response.solver import collide, come_to_rest, solve_positions, solve_velocities
 from ..response.warmstart import no_memory, recall, remember
 from ..statics.segment_index import build_segment_index
+from .frames import constant_angles, new_frames
 from .eventlog import append, log_events, new_log, with_room
 from .islands import new_sleep
 from .integrate import integrate
@@ -53,13 +55,15 @@ ITERATIONS = 20   # sweeps of the contact solver per step (response/solver.py)
 Bodies = namedtuple("Bodies", ["shapes", "positions", "velocities", "angles", "angular_velocities",
                                "accelerations", "radii", "masses", "inertias", "vertex_start", "body_vertices"])
 Statics = namedtuple("Statics", ["box", "segments", "index", "map", "restitution", "rest_speed", "iterations",
-                                 "friction", "volumes"], defaults=(0.0, ITERATIONS, 0.0, None))
+                                 "friction", "volumes", "pulled"], defaults=(0.0, ITERATIONS, 0.0, None, None))
 Statics.__doc__ = """What bodies meet besides each other: box (4,), segments (m, 4) and their index, the
 collision map's field (index and map None when the world has none: see statics_paths.py); and
 how contacts respond: restitution e, the rest speed below which a contact rests instead of
 bouncing, the solver's sweeps per step, and the friction coefficient; volumes True for a world
 with polygons, whose frames count the bounding-volume funnel (narrowphase/hierarchy.py) and
-whose contact phases compile the polygon paths (narrowphase/manifold.py), else None."""
+whose contact phases compile the polygon paths (narrowphase/manifold.py), else None; pulled True
+where a body has an acceleration, else None: with nothing pulling the hold (response/hold.py)
+holds nothing, and is not compiled."""
 Contacts = namedtuple("Contacts", ["found", "rows", "count", "pairs"])
 Contacts.__doc__ = """The contacts the next step starts from, kept from block to block (finding them again at
 each block's start cost a whole broad and narrow phase: a block is one frame at a million
@@ -79,14 +83,6 @@ def new_work(bodies) -> Work:
     return Work(np.empty((n, 2)), np.empty((n, 2)), np.empty(n), np.zeros((n, 2)), np.zeros((n, 2)), np.zeros(n),
                 np.zeros(n), np.empty_like(bodies.body_vertices), 1.0 / bodies.masses, 1.0 / bodies.inertias,
                 np.zeros(n, np.bool_))
-
-
-Frames = namedtuple("Frames", ["positions", "velocities", "angles", "angular_velocities", "collisions",
-                               "candidates", "approximate", "hierarchy"])
-Frames.__doc__ = """A block of frames: positions, velocities (f, n, 2); angles, angular_velocities (f, n);
-collisions (f, 3) wall, pair, segment in the interval ending at each frame; candidates (f,);
-approximate (f,) bool: frames the method could not finish exactly (see Trajectory); hierarchy
-(f, 4): the pairs passing each bounding volume level (narrowphase/hierarchy.py), or NOT_COUNTED."""
 
 
 @njit(cache=True)
@@ -215,7 +211,7 @@ def _log_contacts(rows, count, log, now, frame_collisions, the_map):
 def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log, memory, contacts, work,
                phase_cycles):
     """Advance bodies in place by out's frame count, each frame `substeps` steps of dt, filling
-    out (Frames) and appending every collision to log. memory: the contacts' impulses of the
+    out (Frames, frames.py) and appending every collision to log. memory: the contacts' impulses of the
     step before (response/warmstart.py); contacts: those the next step starts from (Contacts);
     sleep: which bodies sleep (engine/islands.py), in place (a world that never sleeps compiles
     none of it: sleep_paths.py);
@@ -251,9 +247,9 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
                         s.iterations)
                 recall(rows, count, memory, n, statics_count)
                 propped = solve_velocities(rows, count, v, w, b.accelerations, m, inertia, s.friction, dt,
-                                           s.iterations, push, push_turn)
+                                           s.iterations, push, push_turn, s.pulled)
                 propped += solve_positions(rows, count, v, w, b.accelerations, m, inertia, dt, s.iterations, push,
-                                           push_turn, shift, shift_turn)   # > 0: held from below (hold.py)
+                                           push_turn, shift, shift_turn, s.pulled)   # > 0: held (hold.py)
                 out.approximate[frame] = out.approximate[frame] or propped > 0   # momentum is not exact
             t = _lap(phase_cycles, RESPONSE, t)
             integrate(b.positions, b.velocities, b.accelerations, b.angles, b.angular_velocities, dt)
@@ -281,15 +277,15 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
                                                                      (pairs, touching), phase_cycles, t)
         out.candidates[frame] = pairs.shape[0]
         if frame > 0 and still_since_record and still(sleep, n):
-            out.hierarchy[frame] = out.hierarchy[frame - 1]   # the same state as the frame before
+            copy_rows(out.hierarchy[frame - 1], out.hierarchy[frame], 4)   # the same state as the frame before
         else:
             record_levels(levels, b, pairs, vertices, touching, out.hierarchy[frame])
         still_since_record = still(sleep, n)
-        out.positions[frame] = b.positions
-        out.velocities[frame] = b.velocities
+        copy_rows(b.positions, out.positions[frame], n)   # (arrays.py: no slice assignment)
+        copy_rows(b.velocities, out.velocities[frame], n)
         if out.angles.shape[1] == n:  # bodies that turn (see new_frames)
-            out.angles[frame] = b.angles
-            out.angular_velocities[frame] = b.angular_velocities
+            copy_rows(b.angles, out.angles[frame], n)
+            copy_rows(b.angular_velocities, out.angular_velocities[frame], n)
         t = _lap(phase_cycles, RECORD, t)
     phase_cycles[TOTAL] += cycles() - start
     return log, memory, Contacts(found, rows, count, pairs)
@@ -325,27 +321,6 @@ def _move_by_contacts(bodies, i, push, push_turn, shift, shift_turn, dt):
     b.angular_velocities[i] += 2.0 * push_turn[i]
 
 
-def new_frames(count: int, n: int, turning: bool = True, into=None) -> Frames:
-    """Room for `count` frames of n bodies. Without `turning` the angle arrays have no columns:
-    bodies that never turn keep their angles, and storing them every frame would cost as much
-    memory traffic as the positions (see constant_angles). into: (positions, velocities), two
-    C-contiguous float64 (count, n, 2) arrays to write the state into (a trajectory's own rows:
-    simulate.Recorder.views), instead of new ones."""
-    columns = n if turning else 0
-    positions, velocities = into if into is not None else (np.empty((count, n, 2)), np.empty((count, n, 2)))
-    return Frames(positions, velocities, np.empty((count, columns)),
-                  np.empty((count, columns)), np.zeros((count, 3), np.int64), np.zeros(count, np.int64),
-                  np.zeros(count, np.bool_), np.full((count, 4), NOT_COUNTED, np.int64))
-
-
-def constant_angles(frames: Frames, angles, angular_velocities) -> Frames:
-    """Frames whose angle arrays are read-only views repeating the bodies' constant angles and
-    angular velocities (no memory per frame)."""
-    count = len(frames.positions)
-    return frames._replace(angles=np.broadcast_to(angles, (count, len(angles))),
-                           angular_velocities=np.broadcast_to(angular_velocities, (count, len(angles))))
-
-
 class DiscreteStepper:
     """Advances a copy of a world, a block of frames at a time."""
 
@@ -366,7 +341,7 @@ class DiscreteStepper:
         pull = float(np.max(np.hypot(w.accelerations[:, 0], w.accelerations[:, 1]))) if w.n else 0.0
         volumes = True if np.any(w.shapes != CIRCLE) else None
         self.statics = Statics(w.box, w.segments, index, field, float(w.restitution), 2.0 * pull * self.dt,
-                               ITERATIONS, float(w.friction), volumes)
+                               ITERATIONS, float(w.friction), volumes, True if pull > 0.0 else None)
         self.memory = no_memory()
         # room for contacts grows with what a step finds (rows are zeroed, so room held for 8
         # contacts a body cost 0.8 GB at a million bodies)

@@ -11,7 +11,8 @@ from ..model.scene import Scene
 from ..model.trajectory import MAX_EVENTS, Events, Trajectory, approximate_summary
 from ..narrowphase.hierarchy import world_counts
 from .ccd.stepper import CCDStepper
-from .discrete import DiscreteStepper, Frames
+from .discrete import DiscreteStepper
+from .frames import Frames
 
 # The methods, by the name a scene gives: each builds a stepper with run(count) -> (Frames, Events).
 METHODS = {

@@ -147,11 +147,12 @@ def _along_rows(rows, count, lin, ang, accelerations, dt, tangent):
 
 @njit(cache=True)
 def solve_velocities(rows, count, lin, ang, accelerations, inverse_masses, inverse_inertias, friction, dt, iterations,
-                     push_lin, push_ang):
+                     push_lin, push_ang, hold=True):
     """Steps 1 and 2, from the velocities (lin, ang): the contact impulses rows.impulse and
     rows.friction, and the change they make to each body's mean velocity, push_lin (n, 2) and
     push_ang (n,) (zeroed here for the rows' bodies, the only ones it sets; the mean velocity is
-    lin + ½·a·dt + push). Returns the number of rows held from below (hold_from_below)."""
+    lin + ½·a·dt + push). Returns the number of rows held from below (hold_from_below; hold None
+    where nothing pulls: there is nothing to hold, and the hold is not compiled)."""
     zero_bodies(rows, count, push_lin, push_ang)
     # each row's relative velocity without contact impulses: the same in every sweep
     base = _along_rows(rows, count, lin, ang, accelerations, dt, False)
@@ -223,6 +224,8 @@ def solve_velocities(rows, count, lin, ang, accelerations, inverse_masses, inver
         if change <= TOLERANCE * scale or (friction > 0.0 and sweep + 1 >= STALL_AFTER and change > STALL * before):
             break
         before = change
+    if hold is None:
+        return 0
     # late: still closing faster than half a step of its bodies' pull (hold.py)
     return hold_from_below(rows, np.arange(count), target, base, 0.5 * dt, 0.0, accelerations, inverse_masses,
                            inverse_inertias, push_lin, push_ang, 0.5)
@@ -230,11 +233,11 @@ def solve_velocities(rows, count, lin, ang, accelerations, inverse_masses, inver
 
 @njit(cache=True)
 def solve_positions(rows, count, lin, ang, accelerations, inverse_masses, inverse_inertias, dt, iterations, push_lin,
-                    push_ang,
-                    shift_lin, shift_ang):
+                    push_ang, shift_lin, shift_ang, hold=True):
     """Step 3: pseudo-velocities shift_lin (n, 2), shift_ang (n,) (zeroed here for the rows'
     bodies, the only ones it sets) that take overlaps beyond the slop out at POSITION_RATE a step,
-    given the solved mean velocities. Returns the number of rows held from below."""
+    given the solved mean velocities. Returns the number of rows held from below (hold: as in
+    solve_velocities)."""
     zero_bodies(rows, count, shift_lin, shift_ang)
     rows.pseudo[:count] = 0.0
     I, J, N, L, pseudo = rows.i, rows.j, rows.normal, rows.lever, rows.pseudo
@@ -268,6 +271,8 @@ def solve_positions(rows, count, lin, ang, accelerations, inverse_masses, invers
                 pseudo[r] = total
         if change <= TOLERANCE * scale:
             break
+    if hold is None:
+        return 0
     # a row held when less than half of its share of the overlap was taken out
     return hold_from_below(rows, over, goal, solved, 0.0, 0.5, accelerations, inverse_masses, inverse_inertias,
                            shift_lin, shift_ang, 1.0)

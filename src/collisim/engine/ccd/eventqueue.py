@@ -15,6 +15,7 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
+from ...arrays import copy_rows
 from ...compiling import uncounted
 from ...model.kinds import SEGMENT
 
@@ -152,8 +153,10 @@ def reserve(queue, extra, counters, base):
     while 2 * (kept + extra) > capacity:
         capacity *= 2
     larger = new_queue(capacity)
-    larger.time[:kept], larger.key[:kept] = queue.time[:kept], queue.key[:kept]
-    larger.count_i[:kept], larger.count_j[:kept] = queue.count_i[:kept], queue.count_j[:kept]
+    copy_rows(queue.time, larger.time, kept)   # (arrays.py: not a slice assignment)
+    copy_rows(queue.key, larger.key, kept)
+    copy_rows(queue.count_i, larger.count_i, kept)
+    copy_rows(queue.count_j, larger.count_j, kept)
     larger.size[0] = kept
     for slot in range((kept - 2) // ARITY, -1, -1):   # every node with a child, deepest first
         _sift_down(larger, slot, larger.time[slot], larger.key[slot], larger.count_i[slot], larger.count_j[slot])

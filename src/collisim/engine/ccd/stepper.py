@@ -13,7 +13,7 @@ import numpy as np
 
 from ...model.kinds import CIRCLE, MAP, SEGMENT
 from ...model.trajectory import Events
-from ..discrete import constant_angles, new_frames
+from ..frames import constant_angles, new_frames
 from ..profile import Profile
 from .eventqueue import CELL
 from .events import run, sorted_log, start_event_loop
@@ -56,7 +56,7 @@ class CCDStepper:
 
     def run(self, count: int, into=None):
         """Advance `count` frames: (Frames, Events). into: where to write the frames' positions
-        and velocities (discrete.new_frames), or None for new arrays."""
+        and velocities (frames.new_frames), or None for new arrays."""
         w = self.world
         turning = bool(np.any(w.angular_velocities != 0.0))
         out = new_frames(count, w.n, turning, into)

@@ -1,0 +1,36 @@
+"""A block of frames as a stepper returns it (both methods: discrete.py, ccd/stepper.py)."""
+from __future__ import annotations
+
+from collections import namedtuple
+
+import numpy as np
+
+from ..narrowphase.hierarchy import NOT_COUNTED
+
+Frames = namedtuple("Frames", ["positions", "velocities", "angles", "angular_velocities", "collisions",
+                               "candidates", "approximate", "hierarchy"])
+Frames.__doc__ = """A block of frames: positions, velocities (f, n, 2); angles, angular_velocities (f, n);
+collisions (f, 3) wall, pair, segment in the interval ending at each frame; candidates (f,);
+approximate (f,) bool: frames the method could not finish exactly (see Trajectory); hierarchy
+(f, 4): the pairs passing each bounding volume level (narrowphase/hierarchy.py), or NOT_COUNTED."""
+
+
+def new_frames(count: int, n: int, turning: bool = True, into=None) -> Frames:
+    """Room for `count` frames of n bodies. Without `turning` the angle arrays have no columns:
+    bodies that never turn keep their angles, and storing them every frame would cost as much
+    memory traffic as the positions (see constant_angles). into: (positions, velocities), two
+    C-contiguous float64 (count, n, 2) arrays to write the state into (a trajectory's own rows:
+    simulate.Recorder.views), instead of new ones."""
+    columns = n if turning else 0
+    positions, velocities = into if into is not None else (np.empty((count, n, 2)), np.empty((count, n, 2)))
+    return Frames(positions, velocities, np.empty((count, columns)),
+                  np.empty((count, columns)), np.zeros((count, 3), np.int64), np.zeros(count, np.int64),
+                  np.zeros(count, np.bool_), np.full((count, 4), NOT_COUNTED, np.int64))
+
+
+def constant_angles(frames: Frames, angles, angular_velocities) -> Frames:
+    """Frames whose angle arrays are read-only views repeating the bodies' constant angles and
+    angular velocities (no memory per frame)."""
+    count = len(frames.positions)
+    return frames._replace(angles=np.broadcast_to(angles, (count, len(angles))),
+                           angular_velocities=np.broadcast_to(angular_velocities, (count, len(angles))))
