@@ -143,6 +143,17 @@ def test_a_job_is_a_row_of_plain_values_with_its_settings():
     assert all(isinstance(v, (int, float, str)) for v in row.values())
 
 
+def test_a_world_ccd_refuses_leaves_only_position_error_empty_and_says_why():
+    # polygons: position_error has no ccd run to compare with; the job's other measurements stand
+    record = Record(measure=("max_overlap", "collisions", "position_error", "warnings"))
+    for method in ("discrete", "pymunk"):
+        row = run_job({"scene": "polygons", "seconds": 1.0, "method": method}, record)
+        assert row["error"] == "" and row["position_error"] is None
+        assert row["collisions"] > 0 and row["max_overlap"] >= 0.0
+        assert row["warnings"].startswith("no position_error: method ccd covers circles")
+    assert run_job({"scene": "polygons", "seconds": 0.1, "method": "ccd"}, record)["error"].startswith("method ccd")
+
+
 def test_a_job_that_raises_returns_its_error_in_one_line():
     row = run_job({"workload": "slow_gas", "packing": 0.85, "seconds": 0.1})
     assert row["error"].startswith("250 circles") and "\n" not in row["error"]   # collisim's refusal, in its words
