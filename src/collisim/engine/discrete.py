@@ -193,11 +193,12 @@ def _log_contacts(rows, count, log, now, frame_collisions, the_map):
     log = with_room(log, count)
     for r in range(count):
         impulse = rows.hit[r] + rows.impulse[r]
+        impact = rows.hit[r] > 0.0 or rows.arrives[r]   # (an arrival's impulse is the solve's)
         if rows.j[r] >= 0:
-            if rows.hit[r] > 0.0:
+            if impact:
                 append(log, now, PAIR, rows.i[r], rows.j[r], impulse, rows.point[r, 0], rows.point[r, 1])
                 frame_collisions[PAIR] += 1
-        elif rows.hit[r] > 0.0:
+        elif impact:
             wall, kind = rows.wall[r], static_kind(rows.wall[r], the_map)
             other = wall if kind == WALL else -1 if kind == MAP else wall - N_WALLS
             append(log, now, kind, rows.i[r], other, impulse, rows.point[r, 0], rows.point[r, 1])

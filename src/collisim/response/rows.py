@@ -52,7 +52,7 @@ MARGIN = 0.01  # of the radius: every body's smallest speculative margin (a rest
                # ½·g·dt² between two steps must not lose its rows to rounding)
 
 Rows = namedtuple("Rows", ["i", "j", "wall", "feature", "partner", "normal", "point", "lever", "gap",
-                           "mass", "mass_t", "hit", "impulse", "friction", "pseudo", "slop"])
+                           "mass", "mass_t", "hit", "impulse", "friction", "pseudo", "slop", "arrives"])
 Rows.__doc__ = """Contact rows, each (k,) or (k, 2): i, j the bodies (j = -1 for a row of a static: `wall` is the
 box wall's side, or N_WALLS + k for segment k; else -1); feature the point's number in its
 manifold (0 or 1); partner the row of the manifold's other point, or -1; normal unit, from i
@@ -62,7 +62,8 @@ along n turns body i by -lever[0]/I_i, and the point's velocity along n includes
 gap along the normal at the start of the step (< 0: overlapping); mass, mass_t the effective
 masses along the normal and the tangent (-n_y, n_x); hit the impact impulse, impulse and
 friction the accumulated contact impulses along the normal and the tangent, pseudo the position
-impulse (set by the solver); slop the overlap the row tolerates."""
+impulse (set by the solver); slop the overlap the row tolerates; arrives (k,) bool: an impact
+the solve completes, a perfectly inelastic contact with a static still apart (solver.collide)."""
 
 
 @njit(cache=True)
@@ -70,7 +71,7 @@ def new_rows(capacity):
     k = max(capacity, 1)
     ints, reals, pairs = (lambda: np.empty(k, np.int64)), (lambda: np.zeros(k)), (lambda: np.empty((k, 2)))
     return Rows(ints(), ints(), ints(), ints(), ints(), pairs(), pairs(), np.zeros((k, 4)), reals(), reals(),
-                reals(), reals(), reals(), reals(), reals(), reals())
+                reals(), reals(), reals(), reals(), reals(), reals(), np.zeros(k, np.bool_))
 
 
 @njit(cache=True)
