@@ -139,8 +139,8 @@ def _impact(rows, r, v, accelerations, dt, rest_speed, restitution):
     i, j, L = rows.i[r], rows.j[r], rows.lever
     closing = meets(v, accelerations, i, j, rows.normal[r, 0], rows.normal[r, 1], L[r, 0], L[r, 2], rows.gap[r], dt,
                     rest_speed)
-    if closing < 0.0 and restitution == 0.0 and rows.gap[r] > 0.0 and j < 0:
-        rows.arrives[r] = True
+    if restitution == 0.0 and rows.gap[r] > 0.0 and j < 0:
+        rows.arrives[r] = closing < 0.0   # (a later pass may find that another impact turned it)
         return 0.0
     return closing
 
