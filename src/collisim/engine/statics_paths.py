@@ -14,7 +14,7 @@ from numba import njit
 from numba.core import types
 from numba.extending import overload
 
-from ..arrays import grown
+from ..arrays import copy_rows, grown
 from ..compiling import uncounted
 from ..geometry.box import centre_range
 from ..model.kinds import CIRCLE, MAP, N_WALLS, SEGMENT, WALL
@@ -195,7 +195,7 @@ def _keep_start(field, start, positions):
 
     def copy(field, start, positions):
         if has_map(field):
-            start[:] = positions
+            copy_rows(positions, start, positions.shape[0])   # (arrays.py: not a slice assignment)
     return copy
 
 
