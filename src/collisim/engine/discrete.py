@@ -36,7 +36,7 @@ from ..model.kinds import CIRCLE, MAP, N_WALLS, PAIR, SEGMENT, SUPPORT, WALL
 from ..narrowphase.hierarchy import level_scratch, record_levels
 from ..response.hold import held_note
 from ..response.rows import (margin_of, margins, near_segments, new_found, new_rows, pair_manifolds, rows_from,
-                             segment_manifolds, wall_manifolds)
+                             segment_manifolds, wall_manifolds, was_impact)
 from ..response.solver import collide, come_to_rest, solve_positions, solve_velocities
 from ..response.warmstart import no_memory, recall, remember
 from ..statics.segment_index import build_segment_index
@@ -193,7 +193,7 @@ def _log_contacts(rows, count, log, now, frame_collisions, the_map):
     log = with_room(log, count)
     for r in range(count):
         impulse = rows.hit[r] + rows.impulse[r]
-        impact = rows.hit[r] > 0.0 or rows.arrives[r]   # (an arrival's impulse is the solve's)
+        impact = was_impact(rows, r)   # (an arrival's impulse is the solve's)
         if rows.j[r] >= 0:
             if impact:
                 append(log, now, PAIR, rows.i[r], rows.j[r], impulse, rows.point[r, 0], rows.point[r, 1])

@@ -66,6 +66,13 @@ impulse (set by the solver); slop the overlap the row tolerates; arrives (k,) bo
 the solve completes, a perfectly inelastic contact with a static still apart (solver.collide)."""
 
 
+@uncounted
+def was_impact(rows, r):
+    """Did row r meet as an impact this step (an impulse in hit, or an arrival: solver.collide)?
+    Impacts are logged as collisions and kept out of the next step's warm start."""
+    return rows.hit[r] > 0.0 or rows.arrives[r]
+
+
 @njit(cache=True)
 def new_rows(capacity):
     k = max(capacity, 1)

@@ -12,7 +12,9 @@ First, **impacts** (`collide`): rows that meet within the step faster than the r
 Newton's impulse with restitution e (and Coulomb friction), one after another while any still
 meets — the video's two-body response, exact for an isolated pair; the two points of a face
 meeting a face get theirs together (so a box landing flat does not start to spin). Every
-impulse alone keeps momentum and, at e = 1, energy, so any cluster of impacts does too.
+impulse alone keeps momentum and, at e = 1, energy, so any cluster of impacts does too. With
+e = 0 a contact with a static that is still apart arrives instead: the solve below brings the
+body onto the static, exactly, by the step's end (collide).
 
 What is left — contacts slower than the rest speed, under gravity — is held by the solve, on the
 rows of response/rows.py:
@@ -81,7 +83,7 @@ def collide(rows, count, lin, ang, accelerations, inverse_masses, inverse_inerti
 
     A perfectly inelastic contact with a static still apart (restitution 0, gap > 0) that meets
     is no impact here but rows.arrives: an impulse now would stop the body where the step began,
-    up to a step's travel short of the static (a box falling at 9.5 units/s stopped 0.27 above the
+    up to a step's travel short of the static (a box falling at 9.5 units/s stopped 0.26 above the
     floor at 30 fps and sank the rest over six frames). The solve, whose rows may close their gap
     and no more, brings it exactly onto the static by the step's end, and the rest pass stops it
     there. Between two bodies an impact still stops them where the step began: arriving there,

@@ -19,6 +19,7 @@ from numba import njit
 
 from ..compiling import uncounted
 from ..model.kinds import N_WALLS
+from .rows import was_impact
 
 Memory = namedtuple("Memory", ["keys", "impulses", "frictions"])
 Memory.__doc__ = """Last step's impulses of its resting contacts: keys (k,) int64 ascending (row_key)
@@ -47,11 +48,11 @@ def key_bodies(key, n, statics=N_WALLS):
 
 @njit(cache=True)
 def remember(rows, count, n, statics=N_WALLS):
-    """The impulses of this step's pressed rows that were not impacts (nor arrivals: solver.collide)."""
+    """The impulses of this step's pressed rows that were not impacts (rows.was_impact)."""
     keys, impulses, frictions = np.empty(count, np.int64), np.empty(count), np.empty(count)
     k = 0
     for r in range(count):
-        if rows.hit[r] == 0.0 and not rows.arrives[r] and rows.impulse[r] > 0.0:
+        if not was_impact(rows, r) and rows.impulse[r] > 0.0:
             keys[k], impulses[k], frictions[k] = row_key(rows, r, n, statics), rows.impulse[r], rows.friction[r]
             k += 1
     order = np.argsort(keys[:k])   # rows are in canonical order, but pairs and walls interleave keys

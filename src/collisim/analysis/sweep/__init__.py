@@ -47,7 +47,8 @@ Measurements (compare.measure's keys, and events): cost (wall seconds per simula
 after a warm-up of two frames), energy_drift, momentum_drift, max_overlap, outside_end,
 outside_ever, missed_pairs, missed_segments, collisions, pair_collisions, wall_collisions,
 segment_collisions, wall_pressure, position_error (against the ccd run of the same world: a
-second simulation per job; empty, and a warning says why, for a world ccd refuses), warnings, events. Default: all but position_error and warnings.
+second simulation per job; empty, and a warning says why, for a world ccd refuses), warnings,
+events. Default: all but position_error and warnings.
 
 The table
 ---------

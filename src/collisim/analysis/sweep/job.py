@@ -64,7 +64,7 @@ def _measured(settings: dict, record: Record) -> dict:
         cost = (time.perf_counter() - start) / simulated
         reference, refused = None, []
         if "position_error" in record.measure:   # the ccd run of the same world
-            reference, refused = _ccd_reference(scene, traj if method == "ccd" else None)
+            reference, refused = (traj, []) if method == "ccd" else _ccd_reference(scene)
     measured = measure(scene.world, traj, reference, record.horizon, cost)
     measured["events"] = len(traj.events)
     measured["warnings"] = "; ".join(measured["warnings"] + refused)
@@ -73,13 +73,10 @@ def _measured(settings: dict, record: Record) -> dict:
     return {key: plain(measured[key]) for key in record.measure}
 
 
-def _ccd_reference(scene, own):
-    """(the ccd trajectory position_error compares with, [why there is none]): the job's own run
-    when its method is ccd; else a ccd run, unless ccd refuses the world (polygons, gravity that
-    differs between bodies), which leaves position_error empty and says why, as compare does,
-    instead of failing the job's other measurements."""
-    if own is not None:
-        return own, []
+def _ccd_reference(scene):
+    """(the ccd run position_error compares with, [why there is none]): a world ccd refuses
+    (polygons, gravity that differs between bodies) leaves position_error empty and says why, as
+    compare does, instead of failing the job's other measurements."""
     try:
         return run_method(scene, "ccd", 1), []
     except ValueError as error:
