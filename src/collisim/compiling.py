@@ -22,6 +22,10 @@ uncounted too, rather than inlined by numba (inline="always"), which types and c
 helper again inside every caller (the same bytes; a cold first run of particles_250 under
 discrete took 84-90 CPU seconds against 89-90 inlined, alternating runs on a loaded machine).
 
+`inlined`: uncounted, and inlined by LLVM into its callers. numba hands a namedtuple of arrays
+to a compiled function as a few hundred scalar arguments; the event loop's functions that are
+handed the engine's state at every event are inlined rather than called (see there).
+
 `stamp_with_package`: a cached kernel is stale when any of collisim's sources changes, not only
 its own file. numba keys a cache entry to the hash of the one file that defines the function,
 yet a kernel carries the compiled code of every kernel it calls, from other files: after an
@@ -40,7 +44,8 @@ from numba import njit
 from numba.core import dispatcher, errors, types
 from numba.core.compiler import CompilerBase, DefaultPassBuilder
 from numba.core.compiler_machinery import FunctionPass, register_pass
-from numba.core.typed_passes import NopythonTypeInference
+from numba.core.lowering import Lower
+from numba.core.typed_passes import NativeLowering, NopythonTypeInference
 
 OWN_MODULES = "collisim."
 
@@ -193,6 +198,36 @@ class _UncountedCompiler(CompilerBase):
         return [pipeline]
 
 
+class _AlwaysInlinedLower(Lower):
+    """numba's lowering, which also asks LLVM to inline the function into every caller."""
+
+    def lower_normal_function(self, fndesc):
+        super().lower_normal_function(fndesc)
+        self.function.attributes.add("alwaysinline")
+
+
+@register_pass(mutates_CFG=True, analysis_only=False)
+class _AlwaysInlinedLowering(NativeLowering):
+    """numba's native lowering pass, with _AlwaysInlinedLower."""
+    _name = "collisim_always_inlined_lowering"
+
+    @property
+    def lowering_class(self):
+        return _AlwaysInlinedLower
+
+
+class _InlinedCompiler(CompilerBase):
+    """_UncountedCompiler's pipeline, lowered by _AlwaysInlinedLowering instead of NativeLowering."""
+
+    def define_pipelines(self):
+        pipeline = DefaultPassBuilder.define_nopython_pipeline(self.state)
+        pipeline.add_pass_after(_ReturnsNoArray, NopythonTypeInference)
+        pipeline.add_pass_after(_AlwaysInlinedLowering, NativeLowering)
+        pipeline.passes = [(kind, name) for kind, name in pipeline.passes if kind is not NativeLowering]
+        pipeline.finalize()
+        return [pipeline]
+
+
 def uncounted(function):
     """numba.njit(cache=True, error_model="numpy"), compiled without numba's reference counting
     (its runtime, NRT): for functions run at every event or contact that allocate nothing and
@@ -213,3 +248,18 @@ def uncounted(function):
     Division by zero gives inf or nan as in NumPy (error_model="numpy"), as everywhere in the
     engine."""
     return njit(cache=True, error_model="numpy", _nrt=False, pipeline_class=_UncountedCompiler)(function)
+
+
+def inlined(function):
+    """uncounted, and inlined by LLVM into every compiled caller: for the event loop's functions
+    that are handed the engine's state (several namedtuples of arrays) and run at every event.
+
+    Why: numba passes a namedtuple of arrays to a compiled function as its fields flattened into
+    scalars, seven to nine for each array, so Bodies, CellGrid and EventQueue together are over
+    200 arguments a call; LLVM inlines a callee only when it is small, and these are not. The
+    calls that remained were a third of the event loop's time: measured with perf on the dense
+    gas (n = 1 000), predicting and the queue ran at 7.5e5 events per second as calls and at
+    1.1e6 inlined, the same events to the bit. Each such function is short and called from one
+    or two places, so the code LLVM optimizes grows little. Leaf functions handed only numbers
+    (geometry/toi.py) stay calls: inlining time_to_point into the candidate loop made it slower."""
+    return njit(cache=True, error_model="numpy", _nrt=False, pipeline_class=_InlinedCompiler)(function)

@@ -16,7 +16,7 @@ import numpy as np
 from numba import njit
 
 from ...arrays import copy_rows
-from ...compiling import uncounted
+from ...compiling import inlined, uncounted
 from ...model.kinds import SEGMENT
 
 assert SEGMENT < 3  # the bookkeeping kinds below sort after every collision kind
@@ -120,15 +120,49 @@ def push(queue, time, key, count_i, count_j):
     _sift_up(queue, slot, time, key, count_i, count_j)
 
 
-@uncounted
+@inlined
 def pop(queue):
-    """Remove the earliest event and return it as (time, key, count_i, count_j)."""
+    """Remove the earliest event and return it as (time, key, count_i, count_j).
+
+    The hole the earliest event leaves at the top goes down to a leaf along the earliest
+    children, and the last event goes up into it from there (Wegener's bottom-up deletion):
+    the last event belongs near the leaves, so this compares about a quarter less than
+    sifting it down from the top, and choosing the earliest of four children is written
+    without branches."""
     top = (queue.time[0], queue.key[0], queue.count_i[0], queue.count_j[0])
     last = queue.size[0] - 1
     queue.size[0] = last
-    if last > 0:   # the last event fills the hole at the top
-        _sift_down(queue, 0, queue.time[last], queue.key[last], queue.count_i[last], queue.count_j[last])
+    if last > 0:
+        slot = _hole_to_leaf(queue, last)
+        _sift_up(queue, slot, queue.time[last], queue.key[last], queue.count_i[last], queue.count_j[last])
     return top
+
+
+@inlined
+def _hole_to_leaf(queue, size):
+    """Move the hole at the top down to a leaf of the heap's first `size` slots, each step
+    filling it with the earliest child; returns the leaf."""
+    times, keys = queue.time, queue.key
+    slot = 0
+    while True:
+        first = ARITY * slot + 1
+        if first + ARITY <= size:   # four children: the earliest, by selects
+            best, best_time, best_key = first, times[first], keys[first]
+            for child in range(first + 1, first + ARITY):
+                time, key = times[child], keys[child]
+                earlier = (time < best_time) | ((time == best_time) & (key < best_key))
+                best = child if earlier else best
+                best_time = time if earlier else best_time
+                best_key = key if earlier else best_key
+        elif first < size:
+            best = first
+            for child in range(first + 1, size):
+                if _before(times[child], keys[child], times[best], keys[best]):
+                    best = child
+        else:
+            return slot
+        _move(queue, best, slot)
+        slot = best
 
 
 @uncounted

@@ -7,7 +7,7 @@ room, frame_events stops where it is, says what it needs (NEED_LOG, NEED_QUEUE),
 (events.run) grows it and calls again: the event goes on from that point, so a frame is the
 same whatever the log's and the queue's sizes were.
 """
-from ...compiling import uncounted
+from ...compiling import inlined, uncounted
 from ...geometry.circle import line_of_centres
 from ...model.kinds import PAIR, SEGMENT, WALL
 from ...broadphase.cells import move
@@ -96,7 +96,7 @@ def frame_events(bodies, grid, env, queue, contacts, log, done, listed, involved
     return status
 
 
-@uncounted
+@inlined
 def reschedule(bodies, grid, env, queue, particles, count, t, t_end, base, done, step):
     """New predictions from time t for the (current) particles particles[:count] of an event,
     from `step` on: -1 first counts a collision for each (their queued events go out of date)
@@ -142,7 +142,7 @@ def _involve(bodies, i, t, involved, count, listed):
     return count + 1
 
 
-@uncounted
+@inlined
 def collect_collisions(bodies, grid, env, queue, contacts, t, key, base, involved, listed, resting):
     """Turn the collision `key` at time t (just popped) and every other current collision
     at exactly the same time into contacts, taking them off the queue. Fills involved

@@ -14,7 +14,7 @@ bodies kept out of the cell lists (broadphase/cells.py) are tested from both
 sides: i tests each of them whose reach covers its cell, and a large body
 tests the block of cells its reach covers.
 """
-from ...compiling import uncounted
+from ...compiling import inlined, uncounted
 from ...geometry.box import wall_geometry
 from ...geometry.toi import time_to_point, time_to_segment, time_to_wall
 from ...model.kinds import N_WALLS, PAIR, SEGMENT, WALL
@@ -32,7 +32,7 @@ def _earlier(t, kind, j, best_t, best_kind, best_j):
     return best_t, best_kind, best_j
 
 
-@uncounted
+@inlined
 def next_cell_crossing(bodies, grid, i, t_max):
     """(t, direction) of particle i's exit from its cell, t relative to its t_ref.
     Directions 0 -x, 1 +x, 2 -y, 3 +y; the box's outer sides are walls, not exits."""
@@ -54,7 +54,7 @@ def next_cell_crossing(bodies, grid, i, t_max):
     return best_t, best_direction
 
 
-@uncounted
+@inlined
 def next_wall_hit(bodies, env, i, t_max):
     """(t, wall) of particle i's next box wall impact (not the wall it rests on)."""
     best_t, best_wall = t_max, -1
@@ -102,7 +102,7 @@ def slide_off_time(bodies, segments, i, t_max):
     return min(time_to_wall(w, w_rate, w_acc, 0.0, -1.0, t_max), time_to_wall(w, w_rate, w_acc, length, 1.0, t_max))
 
 
-@uncounted
+@inlined
 def predict_solo(bodies, grid, env, i, t_now, t_end):
     """Particle i's next one-particle event (t, kind, j) — t absolute, j = -1 for none (nothing
     before t_end, or asleep: frozen, nothing happens to it on its own) — for the caller to queue;
@@ -134,38 +134,39 @@ def predict_solo(bodies, grid, env, i, t_now, t_end):
     return horizon, kind, -1 if asleep else j
 
 
-@uncounted
+@inlined
 def predict_pairs(bodies, grid, queue, i, t_now, done, base):
     """Queue particle i's collisions with the particles of its block of cells (3 × 3, or as
     far as a large body reaches) and with the large bodies kept apart that may reach it,
     each up to the earlier of the two horizons, skipping the particles j with done[j] (whose
-    pairs were just predicted). i must be current.
-
-    The candidates of both kinds go through one loop — the block's cells in row order, each
-    cell's list, then the bodies kept apart — so the pair test is written once."""
-    xi, yi = bodies.pos[i, 0], bodies.pos[i, 1]
-    vxi, vyi = bodies.vel[i, 0], bodies.vel[i, 1]
-    axi, ayi = bodies.acc[i, 0], bodies.acc[i, 1]
+    pairs were just predicted). i must be current."""
     reach, ci, nx = grid.reach[i], grid.cell[i], grid.nx
     cx_lo, cx_hi, cy_lo, cy_hi = reach_block(grid, ci, reach)
-    width = cx_hi - cx_lo
-    cells = width * (cy_hi - cy_lo)
-    for slot in range(cells + grid.apart.shape[0]):
-        if slot < cells:
-            j = grid.head[(cy_lo + slot // width) * nx + cx_lo + slot % width]
-        else:
-            j = grid.apart[slot - cells]
-            cj, reach_j = grid.cell[j], grid.reach[j]   # does this large body reach i's cell?
-            if not (reach > 1 or (abs(ci % nx - cj % nx) <= reach_j and abs(ci // nx - cj // nx) <= reach_j)):
-                j = -1
-        while j >= 0:
-            if j != i and not done[j]:
-                xj, yj = position_at(bodies, j, t_now)
-                vxj, vyj = velocity_at(bodies, j, t_now)
-                t_max = min(bodies.horizon[i], bodies.horizon[j]) - t_now
-                t = time_to_point(xj - xi, yj - yi, vxj - vxi, vyj - vyi, bodies.acc[j, 0] - axi,
-                                  bodies.acc[j, 1] - ayi, bodies.radius[i] + bodies.radius[j], t_max)
-                if t <= t_max:
-                    lo, hi = min(i, j), max(i, j)
-                    push(queue, t_now + t, event_key(PAIR, lo, hi, base), bodies.counter[lo], bodies.counter[hi])
-            j = grid.next[j] if slot < cells else -1
+    for cy in range(cy_lo, cy_hi):
+        row = cy * nx
+        for cx in range(cx_lo, cx_hi):
+            j = grid.head[row + cx]
+            while j >= 0:
+                _predict_pair(bodies, queue, i, j, t_now, done, base)
+                j = grid.next[j]
+    for k in range(grid.apart.shape[0]):
+        j = grid.apart[k]
+        cj, reach_j = grid.cell[j], grid.reach[j]   # does this large body reach i's cell?
+        if reach > 1 or (abs(ci % nx - cj % nx) <= reach_j and abs(ci // nx - cj // nx) <= reach_j):
+            _predict_pair(bodies, queue, i, j, t_now, done, base)
+
+
+@inlined
+def _predict_pair(bodies, queue, i, j, t_now, done, base):
+    """Queue the collision of i and j (i current) if it comes before both horizons."""
+    if j == i or done[j]:
+        return
+    xj, yj = position_at(bodies, j, t_now)
+    vxj, vyj = velocity_at(bodies, j, t_now)
+    t_max = min(bodies.horizon[i], bodies.horizon[j]) - t_now
+    t = time_to_point(xj - bodies.pos[i, 0], yj - bodies.pos[i, 1], vxj - bodies.vel[i, 0], vyj - bodies.vel[i, 1],
+                      bodies.acc[j, 0] - bodies.acc[i, 0], bodies.acc[j, 1] - bodies.acc[i, 1],
+                      bodies.radius[i] + bodies.radius[j], t_max)
+    if t <= t_max:
+        lo, hi = min(i, j), max(i, j)
+        push(queue, t_now + t, event_key(PAIR, lo, hi, base), bodies.counter[lo], bodies.counter[hi])
