@@ -65,9 +65,9 @@ PACKED_CELLS_PER_BODY = 8
 
 def _cell_side(area, n, radius, packed=False):
     """Cells about one particle's share of the area (packed: a PACKED_CELLS_PER_BODY-th of it),
-    never narrower than 2 radius."""
+    never narrower than 2 radius (a number, or an array of radii: one side each)."""
     share = area / max(n, 1) / (PACKED_CELLS_PER_BODY if packed else 1)
-    return max(2.0 * radius * (1.0 + CELL_MARGIN), np.sqrt(share))
+    return np.maximum(2.0 * radius * (1.0 + CELL_MARGIN), np.sqrt(share))
 
 
 def choose_apart(box, radii, packed=False) -> np.ndarray:
@@ -80,7 +80,7 @@ def choose_apart(box, radii, packed=False) -> np.ndarray:
     area = (box[2] - box[0]) * (box[3] - box[1])
     largest_first = np.argsort(-radii, kind="stable")
     counts = np.arange(min(MOST_APART, n - 1) + 1)
-    sides = np.array([_cell_side(area, n, radii[largest_first[count]], packed) for count in counts])
+    sides = _cell_side(area, n, radii[largest_first[counts]], packed)
     tested = 9.0 * n * sides ** 2 / area + counts
     best = int(np.argmin(tested))
     if best == 0 or tested[best] * APART_GAIN > tested[0]:
