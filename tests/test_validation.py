@@ -27,6 +27,12 @@ BAD_WORLDS = {
     "masses of None": (dict(positions=[[1, 1], [3, 3]], masses=[1.0, None]), "masses contains NaN or inf"),
     "particle through a wall": (dict(positions=[[5, 0.2]], radii=0.5),
                                 r"particle 0 \(radius 0.5\) at \(5, 0.2\) reaches 0.3 beyond the box's bottom wall"),
+    "ball as tall as the box, moving up": (dict(positions=[[50, 5]], velocities=[[3, 1]], radii=5, box=(0, 0, 100, 10)),
+                                           r"particle 0 \(radius 5\) fills the box's height and cannot move across "
+                                           r"it; give it no vertical velocity \(it has 1\)"),
+    "box as wide as the box, moving sideways": (dict(positions=[[1, 5]], velocities=[[-2, 0]], box=(0, 0, 2, 10),
+                                                     polygons=[[[-1, -0.5], [1, -0.5], [1, 0.5], [-1, 0.5]]]),
+                                                r"polygon 0 fills the box's width .* horizontal velocity \(it has -2\)"),
     "tilted box through the floor": (dict(positions=[[5, 0.25]], polygons=[[[-0.5, -0.25], [0.5, -0.25], [0.5, 0.25],
                                                                               [-0.5, 0.25]]], angles=[0.01]),
                                      r"polygon 0 at \(5, 0.25\) reaches 0.00499 beyond the box's bottom wall"),
@@ -40,6 +46,17 @@ def test_bad_world_is_one_clear_line(case):
         collisim.World(**kwargs)
     text = str(error.value)
     assert "\n" not in text and "np.float64" not in text and "array(" not in text
+
+
+@pytest.mark.parametrize("method", ["ccd", "discrete"])
+def test_a_ball_as_tall_as_a_tube_rolls_along_it(method):
+    """Filling the box's height, with no vertical velocity, is allowed: both methods carry the
+    ball along the tube at its speed, as they would a ball with room to spare."""
+    world = collisim.World(positions=[[50, 5]], velocities=[[3, 0]], radii=5, box=(0, 0, 100, 10))
+    run = collisim.simulate(collisim.Scene(world=world, fps=60, seconds=1, method=method))
+    assert not run.approximate.any()
+    assert np.allclose(run.positions[-1], [[53, 5]], rtol=0, atol=1e-12)
+    assert np.allclose(run.velocities[-1], [[3, 0]], rtol=0, atol=1e-12)
 
 
 def test_touching_bodies_and_segments_are_allowed():

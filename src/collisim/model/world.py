@@ -146,6 +146,7 @@ class World:
         too_big = np.flatnonzero(np.any(hi - lo > self.box[2:] - self.box[:2], axis=1))
         if too_big.size:
             raise ValueError(f"{self._named(too_big[0])} is larger than the box")
+        self._moves_where_it_fits(lo, hi)
         outside = np.any((lo < self.box[:2]) | (hi > self.box[2:]), axis=1)
         if outside.any():
             i = np.flatnonzero(outside)[0]
@@ -156,6 +157,19 @@ class World:
             raise ValueError("polygon bodies meet the box walls, segments and each other; collision maps "
                              "collide with circles only: leave the map out of a world with polygons")
         validate.no_overlaps(self)
+
+    def _moves_where_it_fits(self, lo, hi) -> None:
+        """ValueError for a body as wide (or as tall) as the box that moves across it: pressed
+        between two walls at once, it has no room to move, and a velocity it has there cannot be
+        kept (ccd would bounce it between the walls for ever at one instant, and the discrete
+        step would drop it). With any room left it bounces between the walls, however often."""
+        fills = self.box[2:] - self.box[:2] - (hi - lo) <= 0.0
+        across = np.argwhere(fills & (self.velocities != 0.0))
+        if across.size:
+            i, axis = across[0]
+            raise ValueError(f"{self._named(i)} fills the box's {('width', 'height')[axis]} and cannot move across "
+                             f"it; give it no {('horizontal', 'vertical')[axis]} velocity "
+                             f"(it has {self.velocities[i, axis]:g})")
 
     def _named(self, i: int) -> str:
         """A body as an error names it: a particle by its radius, a polygon as one."""
