@@ -1,17 +1,33 @@
 """Functions compiled without numba's reference counting (compiling.uncounted): none may return
 an array, the event loop's per-event functions are among them, and the loop's stopping to let
 its queue and log grow changes no byte."""
+from collections import namedtuple
+
 import numpy as np
 import pytest
 from numba import njit
 from numba.core.errors import TypingError
 
+from collisim import compiling
 from collisim.compiling import uncounted
-from collisim.engine.ccd import events, frame_events
+from collisim.engine.ccd import eventqueue, events, frame_events, predict
 
 # The functions an event runs; each must stay uncounted (the event loop's speed rests on it).
 PER_EVENT = ((frame_events, "frame_events"), (frame_events, "collect_collisions"), (frame_events, "reschedule"),
              (frame_events, "record_contacts"), (frame_events, "apply_bookkeeping"), (events, "sample"))
+
+
+# The functions an event runs that are handed the state (namedtuples of arrays): each must stay
+# inlined into the loop (compiling.inlined; as calls, their arguments cost a third of an event).
+INLINED = ((frame_events, "collect_collisions"), (frame_events, "reschedule"), (predict, "predict_solo"),
+           (predict, "predict_pairs"), (predict, "next_cell_crossing"), (predict, "next_wall_hit"),
+           (eventqueue, "pop"))
+
+Pair = namedtuple("Pair", ["a", "b"])
+
+
+def _sum_at(pair, k):
+    return pair.a[k] + pair.b[k]
 
 
 @uncounted
@@ -54,6 +70,24 @@ def test_an_uncounted_function_that_returns_an_array_does_not_compile():
 def test_the_per_event_functions_are_uncounted():
     for module, name in PER_EVENT:
         assert getattr(module, name).targetoptions.get("_nrt") is False, name
+
+
+def test_the_per_event_functions_handed_the_state_are_inlined():
+    for module, name in INLINED:
+        dispatcher = getattr(module, name)
+        assert dispatcher._compiler.pipeline_class is compiling._InlinedCompiler, name
+        assert dispatcher.targetoptions.get("_nrt") is False, name
+
+
+def test_the_inlined_pipeline_marks_a_function_for_llvm_to_inline_and_computes_the_same():
+    """Compiled afresh (not cached, so its code can be read): the inlined pipeline asks LLVM to
+    inline the function into every caller; numba's own does not."""
+    inlined = njit(_nrt=False, error_model="numpy", pipeline_class=compiling._InlinedCompiler)(_sum_at)
+    plain = njit(_nrt=False, error_model="numpy")(_sum_at)
+    pair = Pair(np.arange(3.0), np.array([0.5, 0.25, 0.125]))
+    assert inlined(pair, 2) == plain(pair, 2) == 2.125
+    assert "alwaysinline" in next(iter(inlined.inspect_llvm().values()))
+    assert "alwaysinline" not in next(iter(plain.inspect_llvm().values()))
 
 
 def test_a_frame_is_the_same_whatever_room_the_queue_and_the_log_had():

@@ -37,7 +37,9 @@ EventQueue, Contacts), and numba would count references to every array of every
 tuple handed to a function, twice a call, with atomic instructions: measured
 with perf (2026-11), that was over half of an event's time on the dense gas. So
 every function run at every event is compiled without numba's reference
-counting (compiling.uncounted): it may neither allocate nor return an array.
+counting (compiling.uncounted): it may neither allocate nor return an array. Those handed the
+state are inlined into the loop (compiling.inlined): a call hands numba's flattened tuples over
+as some two hundred arguments, which cost about a third of an event's time.
 A frame's events are processed by frame_events.py; when the log or the queue
 might run out of room it stops and says so, and run grows them
 (eventlog.with_room, eventqueue.reserve) and lets it go on. Every function is
