@@ -163,6 +163,10 @@ def test_api_raises_value_error_with_the_same_messages(tmp_path, monkeypatch):
     with pytest.raises(ValueError, match=r"^scene file .*folder\.py is a folder, not a file$"):
         collisim.load_scene(tmp_path / "folder.py")
     (tmp_path / "folder.py").rmdir()
+    (tmp_path / "sweep.toml").write_text("[grid]\n")   # an existing file that is not a scene file
+    with pytest.raises(ValueError, match=r"^.*sweep\.toml is not a scene file: scene files are Python, ending in \.py$"):
+        collisim.load_scene(tmp_path / "sweep.toml")
+    (tmp_path / "sweep.toml").unlink()
     with pytest.raises(ValueError, match="fps must be"):
         scene.replace(fps=-1)
     with pytest.raises(ValueError, match="cannot write to output folder"):

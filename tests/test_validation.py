@@ -160,6 +160,15 @@ def test_a_panel_or_chapter_of_too_many_steps_is_refused_before_anything_runs():
         plan(scene, limits=False)   # planned, not run
 
 
+def test_a_count_of_steps_too_large_to_read_is_said_in_three_digits():
+    from collisim.pipeline import plan
+
+    world = collisim.World(positions=[[5, 5]], radii=0.5)
+    with pytest.raises(ValueError, match=r"^scene 'huge' would take 2e\+299 simulation steps \(2e\+299 frames at 1e\+300 "
+                                         r"fps\), more than 10000000; use --no-limits to run it anyway$"):
+        plan(collisim.Scene(world=world, fps=1e300, seconds=0.2, name="huge"))
+
+
 BAD_RENDER_SETTINGS = {
     "trails of a fraction": (dict(trails=2.5), r"trails must be a whole number of frames >= 0, got 2.5"),
     "negative trails": (dict(trails=-1), r"trails must be a whole number of frames >= 0, got -1"),

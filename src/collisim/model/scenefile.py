@@ -50,6 +50,8 @@ def describe_scene_file(path: Path) -> str:
 def resolve_scene_path(name_or_path) -> Path:
     text = str(name_or_path)
     path = Path(text)
+    if path.suffix not in ("", ".py") and path.is_file():   # another kind of file: not "unknown scene"
+        raise ValueError(f"{text} is not a scene file: scene files are Python, ending in .py")
     if text.endswith(".py") or os.sep in text:
         if not path.is_file():
             raise ValueError(missing_file("scene file", text))

@@ -78,7 +78,7 @@ def check_limits(size: tuple, frames: int) -> None:
         raise ValueError(f"size {width}x{height} is larger than {MAX_SIZE[0]}x{MAX_SIZE[1]}; "
                          f"use --no-limits to render it anyway")
     if frames > MAX_FRAMES:
-        raise ValueError(f"the video would have {frames} frames, more than {MAX_FRAMES}; "
+        raise ValueError(f"the video would have {_count(frames)} frames, more than {MAX_FRAMES}; "
                          f"use --no-limits to render it anyway")
 
 
@@ -94,8 +94,15 @@ def check_steps(scene) -> None:
     steps = scene.frames * substeps
     if steps > MAX_STEPS:
         per_frame = f" of {substeps} substeps" if substeps > 1 else ""
-        raise ValueError(f"scene '{scene.name}' would take {steps} simulation steps ({scene.frames} frames at "
-                         f"{scene.fps:g} fps{per_frame}), more than {MAX_STEPS}; use --no-limits to run it anyway")
+        raise ValueError(f"scene '{scene.name}' would take {_count(steps)} simulation steps ({_count(scene.frames)} "
+                         f"frames at {scene.fps:g} fps{per_frame}), more than {MAX_STEPS}; use --no-limits to run it "
+                         f"anyway")
+
+
+def _count(k: int) -> str:
+    """A count as a line says it: every digit up to 15 of them, else three significant digits
+    (--physics-fps 1e300 made a count of 300 digits, printed twice)."""
+    return str(k) if k < 10 ** 15 else f"{k:.3g}"
 
 
 THEMES = palette.THEMES
