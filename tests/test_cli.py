@@ -167,6 +167,14 @@ def test_api_raises_value_error_with_the_same_messages(tmp_path, monkeypatch):
     with pytest.raises(ValueError, match=r"^.*sweep\.toml is not a scene file: scene files are Python, ending in \.py$"):
         collisim.load_scene(tmp_path / "sweep.toml")
     (tmp_path / "sweep.toml").unlink()
+    too_long = "a" * 300   # longer than a file name may be: the system cannot even look it up
+    with pytest.raises(ValueError, match=r"^scene file a{300}\.py cannot be looked up: "):
+        collisim.load_scene(too_long + ".py")
+    with pytest.raises(ValueError, match=r"^unknown scene 'a{300}\.toml'"):
+        collisim.load_scene(too_long + ".toml")
+    from collisim.analysis.sweep.spec import find_sweep_file
+    with pytest.raises(ValueError, match=r"^sweep file a{300}\.toml cannot be looked up: "):
+        find_sweep_file(too_long + ".toml")
     with pytest.raises(ValueError, match="fps must be"):
         scene.replace(fps=-1)
     with pytest.raises(ValueError, match="cannot write to output folder"):

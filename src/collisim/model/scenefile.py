@@ -12,7 +12,7 @@ import sys
 from pathlib import Path
 
 from .scene import Scene
-from .validate import missing_file
+from .validate import is_file, missing_file
 
 
 def scene_dirs() -> list:
@@ -50,10 +50,10 @@ def describe_scene_file(path: Path) -> str:
 def resolve_scene_path(name_or_path) -> Path:
     text = str(name_or_path)
     path = Path(text)
-    if path.suffix not in ("", ".py") and path.is_file():   # another kind of file: not "unknown scene"
+    if path.suffix not in ("", ".py") and is_file(path):   # another kind of file: not "unknown scene"
         raise ValueError(f"{text} is not a scene file: scene files are Python, ending in .py")
     if text.endswith(".py") or os.sep in text:
-        if not path.is_file():
+        if not is_file(path):
             raise ValueError(missing_file("scene file", text))
         return path
     scenes = available_scenes()

@@ -74,13 +74,25 @@ def vector(name: str, value, example: str) -> np.ndarray:
     return array
 
 
+def is_file(path) -> bool:
+    """Is path a regular file? False, not OSError, for a path the system cannot even look up
+    (a name over 255 characters raised "File name too long" through the command line)."""
+    try:
+        return Path(path).is_file()
+    except OSError:
+        return False
+
+
 def missing_file(what: str, text: str) -> str:
     """The line for a path that is not a readable file: not found, a folder, or something else."""
     path = Path(text)
-    if path.is_dir():
-        return f"{what} {text} is a folder, not a file"
-    if path.exists():
-        return f"{what} {text} is not a regular file"
+    try:
+        if path.is_dir():
+            return f"{what} {text} is a folder, not a file"
+        if path.exists():
+            return f"{what} {text} is not a regular file"
+    except OSError as error:
+        return f"{what} {text} cannot be looked up: {error.strerror}"
     return f"{what} not found: {text}"
 
 

@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ...broadphase import NAMES as BROAD_PHASES
-from ...model.validate import missing_file
+from ...model.validate import is_file, missing_file
 from .workloads import WORKLOADS, takes
 
 if sys.version_info >= (3, 11):
@@ -177,7 +177,7 @@ def _require_few(what: str, count: int) -> None:
 def find_sweep_file(text) -> Path:
     """A path to a sweep file, or the name of a shipped one (`accuracy`)."""
     path = Path(str(text))
-    if path.is_file():
+    if is_file(path):
         return path
     if path.suffix == "" and len(path.parts) == 1:
         shipped = shipped_sweeps()
