@@ -107,10 +107,11 @@ def test_a_frame_is_the_same_whatever_room_the_queue_and_the_log_had():
         if tight:   # the same heap, in a queue with room for nothing more
             q = loop.queue
             size = int(q.size[0])
-            small = new_queue(size)
+            small = new_queue(size, n)
             for a, b in zip(small[:4], q[:4]):
                 a[:] = b[:size]
             small.size[0] = size
+            small.slot_of[:] = q.slot_of   # where each body's own event is: the same slots
             loop = loop._replace(queue=small)
         out_p, out_v = np.empty((frames, n, 2)), np.empty((frames, n, 2))
         counts, over = np.zeros((frames, 3), np.int64), np.zeros(frames, np.bool_)

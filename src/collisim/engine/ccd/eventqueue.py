@@ -9,6 +9,11 @@ whose velocity changed invalidates all its predictions). Instead every particle
 has a collision counter, each event remembers the counters of its particles when
 it was predicted, and an event whose counters are out of date is simply skipped
 when it reaches the top (the lazy deletion of Rapaport and Lubachevsky).
+
+The one exception is each particle's own next event (a cell crossing, a wall, a segment, a
+slide off its end): the queue knows where it is (slot_of), and a new one takes its place and
+moves up or down from there (push_one_body). Those had been most of the events skipped: on
+the dense gas, 1.07 an event processed, against 0.47 pair events.
 """
 from collections import namedtuple
 
@@ -26,16 +31,21 @@ assert SEGMENT < 3  # the bookkeeping kinds below sort after every collision kin
 CELL = 3        # j = direction of the crossing: 0 -x, 1 +x, 2 -y, 3 +y
 SLIDE_OFF = 4   # j = the segment a resting particle slides off the end of
 
-EventQueue = namedtuple("EventQueue", ["time", "key", "count_i", "count_j", "size"])
+EventQueue = namedtuple("EventQueue", ["time", "key", "count_i", "count_j", "size", "slot_of"])
 EventQueue.__doc__ = """time (c,) float64; key, count_i, count_j (c,) int64: a heap of capacity c.
-size (1,) int64: the number of events in it. count_j is -1 for one-particle events."""
+size (1,) int64: the number of events in it. count_j is < 0 for one-particle events: -1 for one
+queued with push, ONE_BODY - i for body i's own event (push_one_body), which the queue keeps
+track of: slot_of (n,) int64 holds the slot of each body's own event, or -1 for none."""
+
+# count_j of body i's own event (its next crossing, wall, segment or slide): ONE_BODY - i
+ONE_BODY = -2
 
 
 @njit(cache=True, error_model="numpy")
-def new_queue(capacity):
-    """An empty queue with room for `capacity` events."""
+def new_queue(capacity, bodies):
+    """An empty queue with room for `capacity` events, keeping track of `bodies` bodies' own events."""
     return EventQueue(np.empty(capacity), np.empty(capacity, np.int64), np.empty(capacity, np.int64),
-                      np.empty(capacity, np.int64), np.zeros(1, np.int64))
+                      np.empty(capacity, np.int64), np.zeros(1, np.int64), np.full(bodies, -1, np.int64))
 
 
 @uncounted
@@ -70,13 +80,15 @@ ARITY = 4   # children per node: a shallower heap, whose four children share a c
 @uncounted
 def _move(queue, source, target):
     """Copy the event in slot source to slot target."""
-    queue.time[target], queue.key[target] = queue.time[source], queue.key[source]
-    queue.count_i[target], queue.count_j[target] = queue.count_i[source], queue.count_j[source]
+    _place(queue, target, queue.time[source], queue.key[source], queue.count_i[source], queue.count_j[source])
 
 
 @uncounted
 def _place(queue, slot, time, key, count_i, count_j):
+    """Write an event into slot, noting where a body's own event now is."""
     queue.time[slot], queue.key[slot], queue.count_i[slot], queue.count_j[slot] = time, key, count_i, count_j
+    if count_j <= ONE_BODY:
+        queue.slot_of[ONE_BODY - count_j] = slot
 
 
 @uncounted
@@ -121,6 +133,21 @@ def push(queue, time, key, count_i, count_j):
 
 
 @inlined
+def push_one_body(queue, time, key, count, body):
+    """Queue body's own next event (count: its counter), in place of the one it has in the queue,
+    which its new counter has put out of date: moved up or down from that slot rather than left
+    to be popped and skipped (those were three pops in five on a dense gas). The caller has
+    reserved room for it."""
+    slot = queue.slot_of[body]
+    if slot < 0:
+        push(queue, time, key, count, ONE_BODY - body)
+    elif _before(time, key, queue.time[slot], queue.key[slot]):
+        _sift_up(queue, slot, time, key, count, ONE_BODY - body)
+    else:
+        _sift_down(queue, slot, time, key, count, ONE_BODY - body)
+
+
+@inlined
 def pop(queue):
     """Remove the earliest event and return it as (time, key, count_i, count_j).
 
@@ -130,6 +157,8 @@ def pop(queue):
     sifting it down from the top, and choosing the earliest of four children is written
     without branches."""
     top = (queue.time[0], queue.key[0], queue.count_i[0], queue.count_j[0])
+    if top[3] <= ONE_BODY:
+        queue.slot_of[ONE_BODY - top[3]] = -1
     last = queue.size[0] - 1
     queue.size[0] = last
     if last > 0:
@@ -166,6 +195,14 @@ def _hole_to_leaf(queue, size):
 
 
 @uncounted
+def clear(queue):
+    """Empty the queue."""
+    queue.size[0] = 0
+    for body in range(queue.slot_of.shape[0]):
+        queue.slot_of[body] = -1
+
+
+@uncounted
 def has_room(queue, extra):
     """Has the queue room for `extra` more events?"""
     return queue.size[0] + extra <= queue.time.shape[0]
@@ -186,12 +223,19 @@ def reserve(queue, extra, counters, base):
             kept += 1
     while 2 * (kept + extra) > capacity:
         capacity *= 2
-    larger = new_queue(capacity)
+    larger = EventQueue(np.empty(capacity), np.empty(capacity, np.int64), np.empty(capacity, np.int64),
+                        np.empty(capacity, np.int64), np.zeros(1, np.int64), queue.slot_of)
     copy_rows(queue.time, larger.time, kept)   # (arrays.py: not a slice assignment)
     copy_rows(queue.key, larger.key, kept)
     copy_rows(queue.count_i, larger.count_i, kept)
     copy_rows(queue.count_j, larger.count_j, kept)
     larger.size[0] = kept
+    for body in range(larger.slot_of.shape[0]):   # where the bodies' own events are now
+        larger.slot_of[body] = -1
+    for slot in range(kept):
+        body = ONE_BODY - larger.count_j[slot]
+        if body >= 0:
+            larger.slot_of[body] = slot
     for slot in range((kept - 2) // ARITY, -1, -1):   # every node with a child, deepest first
         _sift_down(larger, slot, larger.time[slot], larger.key[slot], larger.count_i[slot], larger.count_j[slot])
     return larger

@@ -60,7 +60,7 @@ from ...model.kinds import N_WALLS, PAIR, SEGMENT, WALL
 from ..eventlog import new_log, with_room
 from .bodies import FREE, Bodies, Environment, advance, position_at, velocity_at
 from .carried import carry_sleepers
-from .eventqueue import SLIDE_OFF, new_queue, reserve
+from .eventqueue import SLIDE_OFF, clear, new_queue, reserve
 from .fallback import freeze_storm, skip_to_frame, thaw
 from .frame_events import (INVOLVED, NEED, NEED_LOG, NEED_QUEUE, OVER_BUDGET, PROCESSED, STATE_SIZE, frame_events,
                            reschedule)
@@ -94,7 +94,7 @@ class CCDResult(NamedTuple):
 def schedule_all(bodies, grid, env, queue, t, t_end, base, done):
     """Forget every prediction and predict everything afresh from time t."""
     n = bodies.radius.shape[0]
-    queue.size[0] = 0
+    clear(queue)
     for i in range(n):
         advance(bodies, i, t)
     assign_all(grid, bodies.pos)
@@ -161,7 +161,7 @@ def start_event_loop(positions, velocities, gravity, radii, masses, box, restitu
     grid = make_grid(box, radii, segments, separate_large, packed=bool(np.any(env.rest_speed > 0.0)))
     base = max(n, len(segments), N_WALLS) + 1
     done = np.zeros(n, np.bool_)
-    queue = schedule_all(bodies, grid, env, new_queue(16 * (n + 1)), 0.0, t_end, base, done)
+    queue = schedule_all(bodies, grid, env, new_queue(16 * (n + 1), n), 0.0, t_end, base, done)
     resting = True if np.any(gravity != 0.0) or np.any(rest_speed > 0.0) else None
     return EventLoop(bodies, grid, env, queue, new_contacts(4 * n + 16), done, np.zeros(n, np.bool_),
                      np.empty(n, np.int64), base, float(t_end), new_supports(n), np.zeros(SLIDE_OFF + 1, np.int64),

@@ -14,7 +14,7 @@ from ...broadphase.cells import move
 from ..eventlog import append, has_room as log_has_room
 from .bodies import advance, release
 from .carried import note_sleepers, take_hits
-from .eventqueue import CELL, event_key, has_room, is_current, key_parts, pop, push
+from .eventqueue import CELL, event_key, has_room, is_current, key_parts, pop, push_one_body
 from .predict import predict_pairs, predict_solo
 from .resolve import add_pair_contact, add_segment_contact, add_wall_contact, mark_hits, settle_resting, solve_contacts
 from .sleep import doze, wake_up
@@ -118,7 +118,7 @@ def reschedule(bodies, grid, env, queue, particles, count, t, t_end, base, done,
             i = particles[k]
             t_event, kind, j = predict_solo(bodies, grid, env, i, t, t_end)
             if j >= 0:
-                push(queue, t_event, event_key(kind, i, j, base), counter[i], -1)
+                push_one_body(queue, t_event, event_key(kind, i, j, base), counter[i], i)
         step = 0
     for k in range(step, count):
         if not has_room(queue, n):
