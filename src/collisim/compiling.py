@@ -188,12 +188,18 @@ def _holds_an_array(typ) -> bool:
     return isinstance(typ, types.BaseTuple) and any(_holds_an_array(t) for t in typ.types)
 
 
+def _uncounted_pipeline(state):
+    """numba's nopython pipeline with _ReturnsNoArray after type inference (not finalized)."""
+    pipeline = DefaultPassBuilder.define_nopython_pipeline(state)
+    pipeline.add_pass_after(_ReturnsNoArray, NopythonTypeInference)
+    return pipeline
+
+
 class _UncountedCompiler(CompilerBase):
     """numba's nopython pipeline with _ReturnsNoArray after type inference."""
 
     def define_pipelines(self):
-        pipeline = DefaultPassBuilder.define_nopython_pipeline(self.state)
-        pipeline.add_pass_after(_ReturnsNoArray, NopythonTypeInference)
+        pipeline = _uncounted_pipeline(self.state)
         pipeline.finalize()
         return [pipeline]
 
@@ -220,8 +226,7 @@ class _InlinedCompiler(CompilerBase):
     """_UncountedCompiler's pipeline, lowered by _AlwaysInlinedLowering instead of NativeLowering."""
 
     def define_pipelines(self):
-        pipeline = DefaultPassBuilder.define_nopython_pipeline(self.state)
-        pipeline.add_pass_after(_ReturnsNoArray, NopythonTypeInference)
+        pipeline = _uncounted_pipeline(self.state)
         pipeline.add_pass_after(_AlwaysInlinedLowering, NativeLowering)
         pipeline.passes = [(kind, name) for kind, name in pipeline.passes if kind is not NativeLowering]
         pipeline.finalize()

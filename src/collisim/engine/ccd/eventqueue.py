@@ -44,8 +44,14 @@ ONE_BODY = -2
 @njit(cache=True, error_model="numpy")
 def new_queue(capacity, bodies):
     """An empty queue with room for `capacity` events, keeping track of `bodies` bodies' own events."""
+    return _empty_queue(capacity, np.full(bodies, -1, np.int64))
+
+
+@njit(cache=True, error_model="numpy")
+def _empty_queue(capacity, slot_of):
+    """An empty queue with room for `capacity` events, keeping track in slot_of (n,)."""
     return EventQueue(np.empty(capacity), np.empty(capacity, np.int64), np.empty(capacity, np.int64),
-                      np.empty(capacity, np.int64), np.zeros(1, np.int64), np.full(bodies, -1, np.int64))
+                      np.empty(capacity, np.int64), np.zeros(1, np.int64), slot_of)
 
 
 @uncounted
@@ -223,15 +229,13 @@ def reserve(queue, extra, counters, base):
             kept += 1
     while 2 * (kept + extra) > capacity:
         capacity *= 2
-    larger = EventQueue(np.empty(capacity), np.empty(capacity, np.int64), np.empty(capacity, np.int64),
-                        np.empty(capacity, np.int64), np.zeros(1, np.int64), queue.slot_of)
+    larger = _empty_queue(capacity, queue.slot_of)
+    clear(larger)   # (the bodies' own events: found again below)
     copy_rows(queue.time, larger.time, kept)   # (arrays.py: not a slice assignment)
     copy_rows(queue.key, larger.key, kept)
     copy_rows(queue.count_i, larger.count_i, kept)
     copy_rows(queue.count_j, larger.count_j, kept)
     larger.size[0] = kept
-    for body in range(larger.slot_of.shape[0]):   # where the bodies' own events are now
-        larger.slot_of[body] = -1
     for slot in range(kept):
         body = ONE_BODY - larger.count_j[slot]
         if body >= 0:
