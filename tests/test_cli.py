@@ -1,4 +1,5 @@
 """The command line, run in a subprocess as a user would; videos are decoded, not trusted."""
+import gc
 import subprocess
 import sys
 import textwrap
@@ -8,6 +9,7 @@ import numpy as np
 import pytest
 
 import collisim
+from collisim.cli import main
 from conftest import decode_video
 
 
@@ -245,3 +247,24 @@ def test_a_reader_that_stops_reading_ends_the_listing_quietly():
     process.stdout.close()   # the reader is gone before the first line
     err = process.stderr.read().decode()
     assert process.wait(timeout=120) == 0 and err == "", err
+
+
+def test_the_command_ends_with_mains_status_and_the_collector_frozen():
+    """cli.run, the `collisim` command: the exit status is main's (0, and 2 for a bad scene), and
+    the objects there are at the end are frozen (Python's last collection skips them), while
+    main alone, the API, leaves the caller's collector as it was."""
+    ends = textwrap.dedent("""
+        import atexit, gc, sys
+        from collisim.cli import run
+        atexit.register(lambda: print("frozen", gc.get_freeze_count()))
+        run(sys.argv[1:])
+    """)
+    listed = subprocess.run([sys.executable, "-c", ends, "list"], capture_output=True, text=True, timeout=120)
+    assert listed.returncode == 0, listed.stderr
+    assert int(listed.stdout.split("frozen")[-1]) > 10_000   # numba's registries and the dispatchers at least
+    bad = subprocess.run([sys.executable, "-c", ends, "render", "no_such_scene"], capture_output=True, text=True,
+                         timeout=120)
+    assert bad.returncode == 2 and bad.stderr.count("\n") == 1 and "unknown scene" in bad.stderr, bad.stderr
+    frozen = gc.get_freeze_count()
+    assert main(["list"]) == 0
+    assert gc.get_freeze_count() == frozen

@@ -3,11 +3,13 @@
 
 Each run is `collisim render SCENE --png 1` in a fresh Python process whose NUMBA_CACHE_DIR is a
 new temporary folder, so the repository's own caches (the __pycache__ beside the sources) are
-never read nor deleted. The cold process listens to numba's "numba:compile" events (fired only
-when a kernel is compiled, never when one is loaded from the cache) and reports, per function,
-how many times it compiled and the seconds it spent compiling itself (a compile's own time:
-less the kernels it compiled on the way, which are timed as theirs), and both runs time
-numba's cache (entries loaded, seconds loading and saving). Wall seconds are the process's as
+never read nor deleted. The process ends as the collisim command does (cli.run: the collector
+frozen after the imports and at the end) and keeps the modules' bytecode as a user's Python
+does (PYTHONDONTWRITEBYTECODE is dropped). The cold process listens to numba's "numba:compile"
+events (fired only when a kernel is compiled, never when one is loaded from the cache) and
+reports, per function, how many times it compiled and the seconds it spent compiling itself (a
+compile's own time: less the kernels it compiled on the way, which are timed as theirs), and
+both runs time numba's cache (entries loaded, seconds loading and saving). Wall seconds are the process's as
 the parent sees it; on a shared machine its CPU seconds are the steadier figure.
 
     python -m collisim.analysis.bench.first_run particles_250 --method discrete ccd --top 15
@@ -15,6 +17,7 @@ the parent sees it; on a shared machine its CPU seconds are the steadier figure.
 from __future__ import annotations
 
 import argparse
+import gc
 import json
 import os
 import subprocess
@@ -79,6 +82,7 @@ def _child(scene: str, method: str | None) -> dict:
     numba_event.register("numba:compile", recorder)
     from collisim.cli import main
     imported = time.perf_counter()
+    gc.freeze()   # as the collisim command does (cli.run), here and once the report is out
     with tempfile.TemporaryDirectory() as out:
         args = ["render", scene, "--png", "1", "--out", os.path.join(out, "frame.png"), "--no-progress"]
         status = main(args + (["--method", method] if method else []))
@@ -96,6 +100,9 @@ def measure(scene: str, method: str | None = None, warm_repeats: int = 1) -> dic
     {"cold": child report, "warm": [child reports], "wall": {cold, warm: process seconds}}."""
     with tempfile.TemporaryDirectory(prefix="collisim-numba-") as cache:
         env = dict(os.environ, NUMBA_CACHE_DIR=cache)
+        # a user's Python keeps the modules' bytecode: without it every run compiles collisim's
+        # sources again (0.13 s of a warm run)
+        env.pop("PYTHONDONTWRITEBYTECODE", None)
         runs, walls = [], []
         for _ in range(1 + warm_repeats):
             command = [sys.executable, "-m", "collisim.analysis.bench.first_run", "--child", scene]
@@ -151,7 +158,8 @@ def main(argv=None) -> int:
     if args.warm < 0:
         parser.error(f"--warm must be 0 or more, got {args.warm}")
     if args.child:
-        print(json.dumps(_child(args.scenes[0], args.method[0] if args.method else None)))
+        print(json.dumps(_child(args.scenes[0], args.method[0] if args.method else None)), flush=True)
+        gc.freeze()
         return 0
     reports = []
     for scene in args.scenes:
