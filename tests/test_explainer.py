@@ -50,10 +50,28 @@ def test_explained_scenes_keep_text_in_its_strips_and_panel(name, quality, tmp_p
         assert "figure" in seen     # the structures, the sweep's lanes and the grid's chart stay in their regions
 
 
+def ink(image):
+    """Rows and columns the text's coverage reaches."""
+    return np.count_nonzero(image.max(axis=1) > 0.05), np.count_nonzero(image.max(axis=0) > 0.05)
+
+
 def test_text_grows_with_the_frame():
     small, large = explain.text_image("p = v t", 17.0), explain.text_image("p = v t", 17.0 * 2.25)
-    assert 2.0 < large.shape[0] / small.shape[0] < 2.5
+    (small_rows, small_cols), (large_rows, large_cols) = ink(small), ink(large)
+    assert 2.0 < large_rows / small_rows < 2.5 and 2.0 < large_cols / small_cols < 2.5
     assert 0.0 < small.max() <= 1.0
+
+
+def test_text_is_whole_within_its_image():
+    """No glyph is cut at the image's sides (a T's arm standing out of its advance, a last
+    letter): the image holds all the ink of the same text typeset with room on either side."""
+    from matplotlib.font_manager import FontProperties
+    from matplotlib.mathtext import MathTextParser
+    for text in ("T", "VAT", "j", "reflected", r"the update $p \leftarrow p + v\,\Delta t$"):
+        for pixels in (17.0, 38.5, 76.5):
+            roomy = MathTextParser("agg").parse(r"$\,$" + text + r"$\,$", dpi=72, prop=FontProperties(size=pixels))
+            ink = np.asarray(roomy.image, np.float64).sum() / 255.0
+            assert explain.text_image(text, pixels).sum() == pytest.approx(ink, rel=1e-6), (text, pixels)
 
 
 def test_items_fade_in_and_out_on_the_timeline():
