@@ -1,3 +1,4 @@
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -6,6 +7,19 @@ import numpy as np
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
+
+
+@pytest.fixture(scope="session", autouse=True)
+def own_text_cache(tmp_path_factory):
+    """The suite keeps its typeset text (render/textcache.py) in a folder of its own, not the
+    user's, for the CLI's subprocesses too."""
+    before = os.environ.get("COLLISIM_CACHE_DIR")
+    os.environ["COLLISIM_CACHE_DIR"] = str(tmp_path_factory.mktemp("collisim-cache"))
+    yield
+    if before is None:
+        del os.environ["COLLISIM_CACHE_DIR"]
+    else:
+        os.environ["COLLISIM_CACHE_DIR"] = before
 
 
 def run_cli(*args, cwd=None, timeout=300):

@@ -39,7 +39,7 @@ import cv2
 import numpy as np
 
 from .. import palette
-from . import raster
+from . import raster, textcache
 from ..model.validate import is_whole
 from .items import Arrow, Caption, Figure, Mark, Note, Point, check_choice
 
@@ -240,7 +240,18 @@ def thickness(unit: float) -> int:
 @lru_cache(maxsize=512)
 def text_image(text: str, pixels: float) -> np.ndarray:
     """The coverage (h, w) float32 in [0, 1] of `text` typeset by mathtext at about `pixels`
-    tall, cached: a caption is typeset once, not every frame.
+    tall, cached: a caption is typeset once, not every frame, and kept on disk for the runs
+    after (textcache.py)."""
+    size = max(4.0, round(pixels * 2.0) / 2.0)   # half-pixel steps keep the cache small
+    ink = textcache.load(text, size)
+    if ink is None:
+        ink = typeset(text, size)
+        textcache.save(text, size, ink)
+    return ink.astype(np.float32) / 255.0
+
+
+def typeset(text: str, size: float) -> np.ndarray:
+    """The coverage (h, w) uint8 of text typeset by mathtext at size points (72 dpi).
 
     mathtext's own rasterizer gives the coverage directly, with all of the ink. Drawing the text
     on a matplotlib Figure and decoding its PNG, as before, imported matplotlib's figure
@@ -248,7 +259,6 @@ def text_image(text: str, pixels: float) -> np.ndarray:
     (a T's left arm; a last letter, which took a trailing space to keep)."""
     from matplotlib.font_manager import FontProperties
     from matplotlib.mathtext import MathTextParser
-    size = max(4.0, round(pixels * 2.0) / 2.0)   # half-pixel steps keep the cache small
     try:
         image = MathTextParser("agg").parse(text, dpi=72, prop=FontProperties(size=size)).image
     except ValueError as error:   # matplotlib's message spans lines: its last one says what is wrong
@@ -256,7 +266,7 @@ def text_image(text: str, pixels: float) -> np.ndarray:
         why = (lines[-1] if lines else str(error)).removeprefix("ParseException: ")
         raise ValueError(f"text {text!r} is not valid mathtext (an odd number of $ signs, or an unknown "
                          f"command): {why}") from None
-    return np.asarray(image, np.float32) / 255.0
+    return np.array(image, np.uint8)
 
 
 def fit_width(image: np.ndarray, width: float) -> np.ndarray:

@@ -1,16 +1,17 @@
 """The first run on a fresh install: time to a scene's first frame with an empty compile cache
 (cold), then again with the cache that run left (warm), and what numba compiled on the way.
 
-Each run is `collisim render SCENE --png 1` in a fresh Python process whose NUMBA_CACHE_DIR is a
-new temporary folder, so the repository's own caches (the __pycache__ beside the sources) are
-never read nor deleted. The process ends as the collisim command does (cli.run: the collector
-frozen after the imports and at the end) and keeps the modules' bytecode as a user's Python
-does (PYTHONDONTWRITEBYTECODE is dropped). The cold process listens to numba's "numba:compile"
-events (fired only when a kernel is compiled, never when one is loaded from the cache) and
-reports, per function, how many times it compiled and the seconds it spent compiling itself (a
-compile's own time: less the kernels it compiled on the way, which are timed as theirs), and
-both runs time numba's cache (entries loaded, seconds loading and saving). Wall seconds are the process's as
-the parent sees it; on a shared machine its CPU seconds are the steadier figure.
+Each run is `collisim render SCENE --png 1` in a fresh Python process whose NUMBA_CACHE_DIR
+and COLLISIM_CACHE_DIR (typeset text, render/textcache.py) are a new temporary folder, so the
+repository's and the user's caches are never read nor deleted. The process ends as the
+collisim command does (cli.run: the collector frozen after the imports and at the end) and
+keeps the modules' bytecode as a user's Python does (PYTHONDONTWRITEBYTECODE is dropped). The
+cold process listens to numba's "numba:compile" events (fired only when a kernel is compiled,
+never when one is loaded from the cache) and reports, per function, how many times it compiled
+and the seconds it spent compiling itself (a compile's own time: less the kernels it compiled
+on the way, which are timed as theirs), and both runs time numba's cache (entries loaded,
+seconds loading and saving). Wall seconds are the process's as the parent sees it; on a shared
+machine its CPU seconds are the steadier figure.
 
     python -m collisim.analysis.bench.first_run particles_250 --method discrete ccd --top 15
 """
@@ -99,7 +100,7 @@ def measure(scene: str, method: str | None = None, warm_repeats: int = 1) -> dic
     """Cold then warm first frame of scene in fresh processes sharing one new cache folder:
     {"cold": child report, "warm": [child reports], "wall": {cold, warm: process seconds}}."""
     with tempfile.TemporaryDirectory(prefix="collisim-numba-") as cache:
-        env = dict(os.environ, NUMBA_CACHE_DIR=cache)
+        env = dict(os.environ, NUMBA_CACHE_DIR=cache, COLLISIM_CACHE_DIR=cache)   # typeset text too
         # a user's Python keeps the modules' bytecode: without it every run compiles collisim's
         # sources again (0.13 s of a warm run)
         env.pop("PYTHONDONTWRITEBYTECODE", None)
