@@ -26,7 +26,10 @@ def embedded_video(html: str, tmp_path, name: str = "embedded.mp4"):
     return decode_video(path)
 
 
-def test_show_in_a_notebook(tmp_path):
+def test_show_in_a_notebook(tmp_path, monkeypatch):
+    # the kernel's temporary folders (show keeps the video's for the notebook) go with the test's
+    (tmp_path / "kernel-temporary").mkdir()
+    monkeypatch.setenv("TMPDIR", str(tmp_path / "kernel-temporary"))
     notebook = nbformat.v4.new_notebook()
     notebook.cells = [
         nbformat.v4.new_code_cell("import collisim"),

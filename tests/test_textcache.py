@@ -13,8 +13,10 @@ from collisim.render import explain, textcache
 
 @pytest.fixture
 def cache(tmp_path, monkeypatch):
-    """An empty cache folder of the test's own, and text_image's in-process cache emptied."""
+    """An empty cache folder of the test's own, text_image's in-process cache emptied, and no
+    text kept yet by this process (as in a new one)."""
     monkeypatch.setenv("COLLISIM_CACHE_DIR", str(tmp_path / "cache"))
+    monkeypatch.setattr(textcache, "_kept", 0)
     explain.text_image.cache_clear()
     yield tmp_path / "cache" / "text"
     explain.text_image.cache_clear()
@@ -90,3 +92,11 @@ def test_text_read_back_imports_neither_pyplot_nor_the_agg_backend(tmp_path):
     assert [run.returncode for run in runs] == [0, 0], runs[0].stderr + runs[1].stderr
     assert runs[0].stdout.strip() == "['matplotlib.backends.backend_agg']"   # typeset, the first time
     assert runs[1].stdout.strip() == "[]"
+
+
+def test_a_run_keeps_the_first_texts_it_typesets_and_no_more(cache, monkeypatch):
+    """Text that changes every frame (a live count) does not leave a file a frame."""
+    monkeypatch.setattr(textcache, "MOST_PER_RUN", 2)
+    for count in range(5):
+        assert explain.text_image(f"now {count}", 17.0).max() > 0.5
+    assert sorted(path.name for path in cache.iterdir()) == sorted(textcache.name(f"now {k}", 17.0) for k in (0, 1))

@@ -272,8 +272,9 @@ def run(argv=None) -> None:
 
     Why the collector is frozen: what importing made (numba's registries, a dispatcher per
     kernel) lives as long as the process, and at exit Python's last collection walks every
-    object there is, a hundred thousand and more once the kernels are loaded: 0.15 s of a
-    0.95 s warm first frame, for memory the process is about to hand back whole. Frozen objects
+    object there is, a hundred thousand and more once the kernels are loaded: 0.15-0.2 s of a
+    warm first frame (particles_250: 1.10-1.15 s, then 0.89-0.95 s), for memory the process is
+    about to hand back whole. Frozen objects
     are never collected; frozen after the imports, they are skipped by the collections during
     the command too (what the command makes is still collected), and frozen again at the end,
     everything is skipped. main alone (the API, the tests) changes nothing of the caller's."""

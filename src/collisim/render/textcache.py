@@ -3,15 +3,16 @@
 A caption's coverage is typeset by matplotlib's mathtext (explain.text_image). Its first use
 in a process costs about 0.25 s before the first glyph: importing matplotlib's Agg backend
 (which mathtext asks for its hinting) and building mathtext's grammar. A warm first frame
-with captions took 1.1-1.2 s against 0.85-0.9 s without; read from here, the text costs a
-file read.
+with captions took 1.06-1.14 s, and 0.80-0.81 s with its text read from here (single_bounce).
 
 Each text is one .npy file (the uint8 raster mathtext made, bytes as they were), named by a
 digest of everything that shapes it: the text, the size, matplotlib's version and its font,
 mathtext and text settings (a matplotlibrc that changes the font makes other files). The
 folder is $COLLISIM_CACHE_DIR/text, else $XDG_CACHE_HOME/collisim/text, else
 ~/.cache/collisim/text. The cache only saves time: a folder that cannot be written, or a file
-that cannot be read, and the text is typeset as if there were none.
+that cannot be read, and the text is typeset as if there were none. A process keeps at most
+MOST_PER_RUN new texts, the first it typesets, which the first frames draw: text that changes
+every frame (a live count, a time) would otherwise leave a file a frame.
 """
 from __future__ import annotations
 
@@ -25,6 +26,8 @@ import numpy as np
 
 FORMAT = 1   # raise when what a file holds, or how it is named, changes
 SETTINGS = ("font.", "mathtext.", "text.")   # the rcParams that shape typeset text
+MOST_PER_RUN = 256
+_kept = 0   # new texts this process has kept
 
 
 def folder() -> Path:
@@ -57,7 +60,12 @@ def load(text: str, size: float) -> np.ndarray | None:
 
 def save(text: str, size: float, raster: np.ndarray) -> None:
     """Keep raster for text at size: written whole under a temporary name, then renamed, so a
-    process reading at the same time finds the old file, the new one, or none."""
+    process reading at the same time finds the old file, the new one, or none. Past
+    MOST_PER_RUN texts kept by this process, nothing is."""
+    global _kept
+    if _kept >= MOST_PER_RUN:
+        return
+    _kept += 1
     where = folder()
     try:
         where.mkdir(parents=True, exist_ok=True)
