@@ -70,8 +70,8 @@ def test_text_is_whole_within_its_image():
     for text in ("T", "VAT", "j", "reflected", r"the update $p \leftarrow p + v\,\Delta t$"):
         for pixels in (17.0, 38.5, 76.5):
             roomy = MathTextParser("agg").parse(r"$\,$" + text + r"$\,$", dpi=72, prop=FontProperties(size=pixels))
-            ink = np.asarray(roomy.image, np.float64).sum() / 255.0
-            assert explain.text_image(text, pixels).sum() == pytest.approx(ink, rel=1e-6), (text, pixels)
+            all_of_it = np.asarray(roomy.image, np.float64).sum() / 255.0
+            assert explain.text_image(text, pixels).sum() == pytest.approx(all_of_it, rel=1e-6), (text, pixels)
 
 
 def test_items_fade_in_and_out_on_the_timeline():
