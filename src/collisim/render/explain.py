@@ -243,10 +243,11 @@ def text_image(text: str, pixels: float) -> np.ndarray:
     tall, cached: a caption is typeset once, not every frame, and kept on disk for the runs
     after (textcache.py)."""
     size = max(4.0, round(pixels * 2.0) / 2.0)   # half-pixel steps keep the cache small
-    ink = textcache.load(text, size)
+    kept = textcache.path(text, size)   # (named once: a digest of matplotlib's settings)
+    ink = textcache.load(kept)
     if ink is None:
         ink = typeset(text, size)
-        textcache.save(text, size, ink)
+        textcache.save(kept, ink)
     return ink.astype(np.float32) / 255.0
 
 

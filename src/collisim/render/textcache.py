@@ -48,34 +48,38 @@ def name(text: str, size: float) -> str:
     return hashlib.sha256(described.encode()).hexdigest()[:32] + ".npy"
 
 
-def load(text: str, size: float) -> np.ndarray | None:
-    """The raster (h, w) uint8 kept for text at size, or None."""
+def path(text: str, size: float) -> Path:
+    """Where text typeset at size is kept."""
+    return folder() / name(text, size)
+
+
+def load(kept: Path) -> np.ndarray | None:
+    """The raster (h, w) uint8 kept at `kept` (path()), or None."""
     try:
-        raster = np.load(folder() / name(text, size), allow_pickle=False)
+        raster = np.load(kept, allow_pickle=False)
     except (OSError, ValueError, EOFError):   # none yet, unreadable, or cut short
         return None
     ok = raster.dtype == np.uint8 and raster.ndim == 2
     return raster if ok else None
 
 
-def save(text: str, size: float, raster: np.ndarray) -> None:
-    """Keep raster for text at size: written whole under a temporary name, then renamed, so a
+def save(kept: Path, raster: np.ndarray) -> None:
+    """Keep raster at `kept` (path()): written whole under a temporary name, then renamed, so a
     process reading at the same time finds the old file, the new one, or none. Past
     MOST_PER_RUN texts kept by this process, nothing is."""
     global _kept
     if _kept >= MOST_PER_RUN:
         return
     _kept += 1
-    where = folder()
     try:
-        where.mkdir(parents=True, exist_ok=True)
-        handle, temporary = tempfile.mkstemp(dir=where, suffix=".part")
+        kept.parent.mkdir(parents=True, exist_ok=True)
+        handle, temporary = tempfile.mkstemp(dir=kept.parent, suffix=".part")
     except OSError:
         return   # a folder that cannot be written: nothing is kept
     try:
         with os.fdopen(handle, "wb") as file:
             np.save(file, np.ascontiguousarray(raster, np.uint8), allow_pickle=False)
-        os.replace(temporary, where / name(text, size))
+        os.replace(temporary, kept)
     except BaseException as error:   # a full disk, or a signal: no part file is left behind
         with contextlib.suppress(OSError):
             os.unlink(temporary)
