@@ -28,7 +28,7 @@ import collisim
 from collisim.analysis.reference.pymunk_mirror import simulate_pymunk
 from collisim.broadphase import find_pairs
 from collisim.engine import stream
-from collisim.model.kinds import SUPPORT, WALL
+from collisim.core.kinds import SUPPORT, WALL
 
 G = 9.81
 

@@ -24,7 +24,7 @@ import collisim
 from collisim.broadphase.step import step_state
 from collisim.engine.discrete import DiscreteStepper
 from collisim.model.trajectory import LEVELS
-from collisim.narrowphase.hierarchy import circle_pairs, count_levels, false_positive_rates
+from collisim.engine.hierarchy import circle_pairs, count_levels, false_positive_rates
 
 SECONDS = {"particles_250": 10.0}
 

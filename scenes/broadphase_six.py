@@ -6,7 +6,7 @@ from collisim import palette
 from collisim.broadphase import describe
 from collisim.broadphase.step import GridState, box_grid
 from collisim.engine.discrete import bounding_boxes
-from collisim.model.kinds import PAIR
+from collisim.core.kinds import PAIR
 from collisim.render import structures as draw
 from collisim.render.explain import Caption, Explainer, Figure, image_figure
 from collisim.render.pace import Freeze, Pace, Slow, Steps

@@ -2,7 +2,7 @@
 import numpy as np
 
 import collisim
-from collisim.model.kinds import WALL
+from collisim.core.kinds import WALL
 from collisim.render.explain import Arrow, Caption, Explainer, Note
 
 RADIUS = 0.45

@@ -1,6 +1,6 @@
 """A teacher's example, written from the README: a ball dropped on the floor, explained."""
 import collisim
-from collisim.model.kinds import WALL
+from collisim.core.kinds import WALL
 from collisim.render.explain import Arrow, Caption, Explainer, Mark, Note
 
 def first_bounce(state):          # when the engine found it; None until then

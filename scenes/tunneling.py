@@ -3,7 +3,7 @@ import numpy as np
 
 import collisim
 from collisim import palette
-from collisim.model.kinds import SEGMENT
+from collisim.core.kinds import SEGMENT
 from collisim.render import raster
 from collisim.render.explain import Caption, Explainer, Note
 from collisim.render.pace import Freeze, Pace, Slow

@@ -2,7 +2,7 @@
 import numpy as np
 
 import collisim
-from collisim.model.kinds import PAIR
+from collisim.core.kinds import PAIR
 from collisim.render.explain import Arrow, Caption, Explainer, Mark
 from collisim.render.pace import Freeze, Pace, Slow
 

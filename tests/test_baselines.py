@@ -12,7 +12,7 @@ from collisim.analysis.bench.reference_step import ReferenceStep
 from collisim.analysis.reference import PlainPymunk, simulate_plain_pymunk, simulate_pymunk, time_plain_pymunk
 from collisim.analysis.reference.pymunk_mirror import Mirror
 from collisim.gas import lattice_gas
-from collisim.model.kinds import PAIR, WALL
+from collisim.core.kinds import PAIR, WALL
 
 
 def head_on(gravity=(0.0, 0.0)):

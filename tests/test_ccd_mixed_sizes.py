@@ -2,7 +2,7 @@
 events as cells sized by the largest body (broadphase/cells.py)."""
 import numpy as np
 
-from collisim.geometry.segment import segment_contact
+from collisim.core.geometry.segment import segment_contact
 from collisim.broadphase.cells import choose_apart, make_grid
 from collisim.engine.ccd.events import simulate_events
 from collisim.gas import lattice_gas

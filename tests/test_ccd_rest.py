@@ -7,8 +7,8 @@ import pytest
 import collisim
 from collisim.analysis import metrics
 from collisim.engine.ccd.events import simulate_events
-from collisim.geometry.segment import segment_contact
-from collisim.model.kinds import N_WALLS, PAIR, SEGMENT, SUPPORT, WALL
+from collisim.core.geometry.segment import segment_contact
+from collisim.core.kinds import N_WALLS, PAIR, SEGMENT, SUPPORT, WALL
 from collisim.pipeline import scene_chapters
 from collisim.render.player import draw_frame, make_players
 
@@ -160,7 +160,7 @@ def test_a_woken_sleeper_moves_on_from_where_it_slept():
 
 
 def test_sleeping_is_on_by_default_only_under_gravity_and_when_inelastic():
-    from collisim.engine.ccd.sleep import default_rest_speed
+    from collisim.engine.rest import default_rest_speed
     radii = np.array([0.45, 0.2])
     np.testing.assert_allclose(default_rest_speed((0.0, -G), radii, 0.5), np.sqrt(2 * G * 1e-3 * radii), rtol=1e-15)
     assert np.all(default_rest_speed((0.0, 0.0), radii, 0.5) == 0.0)   # no gravity: a gas never sleeps
@@ -169,7 +169,7 @@ def test_sleeping_is_on_by_default_only_under_gravity_and_when_inelastic():
 
 def test_the_tc_model_is_on_by_default_only_where_bodies_sleep():
     from collisim.engine.ccd.resolve import default_tc
-    from collisim.engine.ccd.sleep import default_rest_speed
+    from collisim.engine.rest import default_rest_speed
     from collisim.engine.ccd.stepper import CCDStepper
     radii = np.array([0.45, 0.2])
     slowest = np.sqrt(2 * G * 1e-3 * 0.2)   # the smaller body's rest speed

@@ -8,7 +8,7 @@ import textwrap
 import numpy as np
 from numba import njit
 
-from collisim.compiling import plain_constants
+from collisim.core.compiling import plain_constants
 
 plain_constants()   # the typing policy, as importing collisim installs it
 
@@ -61,39 +61,9 @@ def test_other_code_keeps_numbas_policy():
     assert len(probe["callee"].signatures) == 2   # Literal[int](1) (PAIR and 1) and Literal[int](0)
 
 
-def test_first_run_counts_compiles_per_function():
-    """The first-run benchmark's recorder: one count per signature compiled, a callee's time
-    its own (not also its caller's)."""
-    from numba.core import event
-    from collisim.analysis.bench.first_run import CompileRecorder
-    probe = compiled("collisim._probe")
-    recorder = CompileRecorder()
-    event.register("numba:compile", recorder)
-    try:
-        probe["caller"](np.zeros(2))
-        probe["callee"](np.zeros(2, np.int64), 0, 1)   # a second signature, from Python
-    finally:
-        event.unregister("numba:compile", recorder)
-    callee, caller = recorder.functions["collisim._probe.callee"], recorder.functions["collisim._probe.caller"]
-    assert (callee["compiles"], caller["compiles"]) == (2, 1)
-    assert callee["seconds"] > 0 and caller["seconds"] > 0
-    assert callee["signatures"][1] == "array(int64, 1d, C), int64, int64"
-
-
-def test_first_run_reports_a_cold_run_alone():
-    # --warm 0 measured the cold run, then failed to print it (max() of no warm runs)
-    from collisim.analysis.bench.first_run import format_row
-    cold = {"cpu_seconds": 50.0, "compiles": 222, "compile_seconds": 49.0, "cache_save_seconds": 0.8}
-    warm = {"cpu_seconds": 1.2, "compiles": 0, "cache_loads": 12, "cache_load_seconds": 0.4, "import_seconds": 0.03}
-    report = {"scene": "particles_250", "method": "ccd", "cold": cold, "warm": [], "wall": {"cold": 51.0, "warm": []}}
-    assert format_row(report).endswith("222 compiles, 49.0 s compiling, 0.8 s of it saving)")
-    report.update(warm=[warm], wall={"cold": 51.0, "warm": [1.1]})
-    assert "warm 1.10 s (cpu 1.20 s; 0 compiles, 12 cache loads 0.40 s, import 0.03 s)" in format_row(report)
-
-
 CALLER = """
 import sys
-import collisim.compiling as compiling
+import collisim.core.compiling as compiling
 compiling.PACKAGE = sys.argv[1]          # stamp this folder's kernels as if they were collisim's
 sys.path.insert(0, sys.argv[1])
 from outer import outer
@@ -128,7 +98,7 @@ def test_a_kernel_compiles_again_when_a_kernel_it_calls_changes_in_another_file(
 
 
 def test_the_package_digest_sees_every_source_and_nothing_else(tmp_path):
-    from collisim.compiling import package_digest
+    from collisim.core.compiling import package_digest
 
     (tmp_path / "sub").mkdir()
     (tmp_path / "a.py").write_text("x = 1\n")
@@ -154,7 +124,7 @@ def test_two_processes_saving_one_kernel_for_two_types_at_once_never_mix_their_e
     from numba import types
     from numba.core.caching import IndexDataCacheFile
 
-    from collisim.compiling import PACKAGE, package_digest
+    from collisim.core.compiling import PACKAGE, package_digest
 
     stamp = ((1.0, 100), package_digest(PACKAGE))   # a collisim kernel's stamp (stamp_with_package)
     machine = ("x86_64-unknown-linux-gnu", "cpu", "")
@@ -184,7 +154,7 @@ def test_cache_entry_names_are_the_same_in_every_process():
     probe = textwrap.dedent("""
         import sys, numpy as np
         from numba import typeof, types
-        from collisim.compiling import _described
+        from collisim.core.compiling import _described
         from collisim.engine.discrete import Bodies
         if sys.argv[1] == "other first":
             typeof((np.zeros(3), 1.0, np.zeros((2, 2), np.int64)))

@@ -8,7 +8,7 @@ import pytest
 
 from collisim.engine.ccd.eventqueue import (ARITY, CELL, ONE_BODY, event_key, new_queue, pop, push, push_one_body,
                                           reserve)
-from collisim.model.kinds import PAIR
+from collisim.core.kinds import PAIR
 
 
 def _drain(queue):

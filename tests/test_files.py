@@ -10,7 +10,7 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 import collisim
-from collisim.files import save_figure, write_table, write_text, written_whole
+from collisim.core.files import save_figure, write_table, write_text, written_whole
 from collisim.model.trajectory import load_trajectory
 
 

@@ -11,7 +11,7 @@ from shapely.geometry import Point, Polygon
 
 import collisim
 from collisim.model.trajectory import LEVELS, NOT_COUNTED, load_trajectory
-from collisim.narrowphase.hierarchy import (CX, CY, HALF_H, HALF_W, SLACK, UX, UY, false_positive_rates,
+from collisim.engine.hierarchy import (CX, CY, HALF_H, HALF_W, SLACK, UX, UY, false_positive_rates,
                                             hierarchy, volumes_of)
 from collisim.render.hud import volume_line
 from collisim.shapes import box, regular

@@ -5,7 +5,7 @@ from scipy import stats
 
 import collisim
 from collisim.analysis import metrics
-from collisim.model.kinds import PAIR, SEGMENT, WALL
+from collisim.core.kinds import PAIR, SEGMENT, WALL
 from collisim.model.trajectory import Events, Trajectory
 from collisim.model.world import World
 

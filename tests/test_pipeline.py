@@ -12,7 +12,7 @@ from collisim.engine.discrete import DiscreteStepper
 from collisim.engine.profile import PHASES
 from collisim.analysis.bench.segments import segment_gas
 from collisim.gas import lattice_gas
-from collisim.model.kinds import CIRCLE
+from collisim.core.kinds import CIRCLE
 from collisim.narrowphase.registry import SHAPE_PAIRS, contact, touching
 
 EVENT_FIELDS = ("time", "kind", "i", "j", "impulse", "point")

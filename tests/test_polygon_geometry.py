@@ -13,7 +13,7 @@ import pymunk
 import pytest
 from scipy.spatial import ConvexHull
 
-from collisim.geometry.polygon import (bounding_radius, circle_inertia, edge_normals, oriented_box,
+from collisim.core.geometry.polygon import (bounding_radius, circle_inertia, edge_normals, oriented_box,
                                        polygon_bounds, polygon_mass_properties, world_vertices)
 from collisim.shapes import box, convex_polygon, regular
 

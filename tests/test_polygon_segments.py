@@ -6,8 +6,8 @@ import shapely.geometry as sg
 
 import collisim
 from collisim import Scene, World
-from collisim.geometry.polygon import place_polygons
-from collisim.model.kinds import N_WALLS, SEGMENT
+from collisim.core.geometry.polygon import place_polygons
+from collisim.core.kinds import N_WALLS, SEGMENT
 from collisim.narrowphase.manifold import polygon_segment_manifold
 from collisim.shapes import box, regular
 

@@ -51,7 +51,7 @@ def test_an_inelastic_polygon_lands_where_its_fall_meets_the_floor_without_hover
     np.testing.assert_allclose(y[~landed], fall[~landed], rtol=1e-12)
     np.testing.assert_allclose(y[landed], rest, rtol=1e-9, atol=1e-12)
     assert np.abs(traj.velocities[landed]).max() < 1e-4   # (the rest pass's few sweeps)
-    walls = traj.events.kind == collisim.model.kinds.WALL
+    walls = traj.events.kind == collisim.core.kinds.WALL
     first = np.argmax(landed)
     np.testing.assert_allclose(traj.events.time[walls], first / FPS, rtol=1e-12)
     assert walls.sum() == 2   # its face's two corners, once

@@ -7,7 +7,7 @@ import pytest
 
 import collisim
 from collisim.model.scenefile import available_scenes
-from collisim.narrowphase import contacts
+from collisim import contacts
 from collisim.narrowphase.statics import touching_segments
 from conftest import decode_video
 

@@ -7,7 +7,7 @@ import collisim
 from collisim import Scene, World
 from collisim.engine.discrete import DiscreteStepper
 from collisim.engine.islands import SLEEP_TIME, new_sleep
-from collisim.model.kinds import SUPPORT
+from collisim.core.kinds import SUPPORT
 from collisim.shapes import box
 
 G = 9.81
@@ -136,7 +136,7 @@ def test_sleeping_gives_the_same_bytes_with_every_broad_phase_and_block_size(bro
 
 
 def test_the_funnel_counts_the_pairs_of_sleepers():
-    from collisim.narrowphase.hierarchy import hierarchy
+    from collisim.engine.hierarchy import hierarchy
     world = stack_world()
     trajectory = run(world, 1.5)
     for frame in (10, 89):                                            # awake, then asleep

@@ -6,7 +6,7 @@ import pytest
 
 import collisim
 from collisim import Scene, World
-from collisim.model.kinds import SUPPORT
+from collisim.core.kinds import SUPPORT
 
 G = 9.81
 

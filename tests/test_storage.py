@@ -116,7 +116,7 @@ def test_the_memory_benchmark_counts_a_repeated_row_once(exact):
 
 
 def test_a_grown_log_keeps_its_events_and_copies_only_what_it_holds():
-    from collisim.arrays import grown
+    from collisim.core.arrays import grown
     from collisim.engine.eventlog import append, new_log, with_room
     log = new_log(4)
     for k in range(3):
@@ -135,7 +135,7 @@ def test_a_grown_log_keeps_its_events_and_copies_only_what_it_holds():
 
 @pytest.mark.parametrize("shape", [(5,), (5, 2), (5, 3, 2), (0, 2)])
 def test_copy_rows_copies_the_first_rows_and_leaves_the_rest(shape):
-    from collisim.arrays import copy_rows
+    from collisim.core.arrays import copy_rows
     source = np.random.default_rng(1).normal(size=shape)
     target = np.full((7,) + shape[1:], -1.0)
     count = min(3, shape[0])

@@ -1,4 +1,4 @@
-"""Time of impact (collisim.geometry.toi) and the discrete thin-barrier check
+"""Time of impact (collisim.core.geometry.toi) and the discrete thin-barrier check
 (collisim.narrowphase.segments): closed forms, edge cases, and properties."""
 import math
 from decimal import Decimal, getcontext
@@ -9,7 +9,7 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 from scipy.optimize import brentq
 
-from collisim.geometry.toi import time_to_pair, time_to_point, time_to_segment, time_to_wall
+from collisim.core.geometry.toi import time_to_pair, time_to_point, time_to_segment, time_to_wall
 from conftest import statics_step
 
 INF = math.inf
@@ -231,7 +231,7 @@ def _quartic_with_roots(scale, roots):
 @given(st.lists(st.integers(-1200, 1199), min_size=4, max_size=4, unique=True),
        st.lists(st.floats(0.0, 2e-4), min_size=4, max_size=4), st.floats(0.1, 10.0))
 def test_first_down_crossing_is_the_first_root_where_the_quartic_turns_negative(steps, jitter, scale):
-    from collisim.geometry.roots import first_down_crossing
+    from collisim.core.geometry.roots import first_down_crossing
     # roots in (-3, 3), over 2e-3 apart and over 1e-3 from the interval's ends 0 and 2.5, by
     # construction (filtered from free floats, too many were thrown away: a health check failed)
     roots = sorted(0.0025 * k + 0.00125 + d for k, d in zip(steps, jitter))
@@ -246,7 +246,7 @@ def test_first_down_crossing_is_the_first_root_where_the_quartic_turns_negative(
 
 
 def test_first_down_crossing_of_a_double_root_and_of_a_quartic_that_stays_positive():
-    from collisim.geometry.roots import first_down_crossing
+    from collisim.core.geometry.roots import first_down_crossing
     # (t - 1)² (t² + 1): touches zero at t = 1 without going below; the grazing contact counts
     assert first_down_crossing(_quartic_with_roots(1.0, [1.0, 1.0, 1j, -1j]), 0.0, 5.0) == pytest.approx(1.0, abs=1e-7)
     assert first_down_crossing((1.0, 0.0, 1.0, 0.0, 1.0), 0.0, 5.0) == INF   # 1 + t² + t⁴ > 0

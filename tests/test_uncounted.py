@@ -9,7 +9,7 @@ from numba import njit
 from numba.core.errors import TypingError
 
 from collisim import compiling
-from collisim.compiling import uncounted
+from collisim.core.compiling import uncounted
 from collisim.engine.ccd import eventqueue, events, frame_events, predict
 
 # The functions an event runs; each must stay uncounted (the event loop's speed rests on it).

@@ -11,10 +11,6 @@ BAD_WORLDS = {
     "one body written flat": (dict(positions=[1.0, 2.0]), r"positions must have shape \(n, 2\).*\[\[x, y\]\]"),
     "velocities of the wrong shape": (dict(positions=[[1, 1]], velocities=[1, 2, 3]),
                                       r"velocities must have shape \(1, 2\) for 1 body, got shape \(3,\)"),
-    "overlapping bodies": (dict(positions=[[1, 1], [1.5, 1]], radii=0.5), "bodies 0 and 1 overlap by 0.5"),
-    "coincident bodies": (dict(positions=[[3, 3], [6, 6], [3, 3]], radii=0.5), "bodies 0 and 2 overlap by 1"),
-    "body on a segment": (dict(positions=[[5, 5]], radii=0.5, segments=[[0, 5, 10, 5]]),
-                          "body 0 overlaps segment 0 by 0.5"),
     "restitution None": (dict(positions=[[1, 1]], restitution=None), "restitution must be a number"),
     "restitution text": (dict(positions=[[1, 1]], restitution="1"), "restitution must be a number"),
     "restitution above 1": (dict(positions=[[1, 1]], restitution=1.5), r"restitution must be in \[0, 1\]"),
@@ -59,12 +55,57 @@ def test_a_ball_as_tall_as_a_tube_rolls_along_it(method):
     assert np.allclose(run.velocities[-1], [[3, 0]], rtol=0, atol=1e-12)
 
 
+# What only the engine can tell (its narrow phase, its registries) is refused where it starts:
+# by simulate, and by render before any file is written.
+BAD_STARTS = {
+    "overlapping bodies": (dict(world=dict(positions=[[1, 1], [1.5, 1]], radii=0.5)), "bodies 0 and 1 overlap by 0.5"),
+    "coincident bodies": (dict(world=dict(positions=[[3, 3], [6, 6], [3, 3]], radii=0.5)),
+                          "bodies 0 and 2 overlap by 1"),
+    "body on a segment": (dict(world=dict(positions=[[5, 5]], radii=0.5, segments=[[0, 5, 10, 5]])),
+                          "body 0 overlaps segment 0 by 0.5"),
+    "overlapping polygons": (dict(world=dict(positions=[[2, 2], [2.5, 2]], polygons=[[[-0.5, -0.5], [0.5, -0.5],
+                                                                                    [0.5, 0.5], [-0.5, 0.5]]] * 2)),
+                             "bodies 0 and 1 overlap by 0.5"),
+    "unknown method": (dict(method="verlet"), "unknown method 'verlet'; choose one of: discrete, ccd"),
+    "unknown broad phase": (dict(broadphase="octree"), "unknown broad phase 'octree'; choose one of: auto, brute"),
+}
+
+
+def _start_scene(case):
+    options, message = BAD_STARTS[case]
+    world = collisim.World(**options.get("world", dict(positions=[[1, 1]])))   # the model takes it as given
+    scene_options = {key: value for key, value in options.items() if key != "world"}
+    return collisim.Scene(world=world, fps=30, seconds=0.5, **scene_options), message
+
+
+@pytest.mark.parametrize("case", BAD_STARTS)
+def test_what_the_engine_cannot_start_is_one_clear_line(case):
+    scene, message = _start_scene(case)
+    with pytest.raises(ValueError, match=message) as error:
+        collisim.simulate(scene)
+    assert "\n" not in str(error.value)
+    with pytest.raises(ValueError, match=message):
+        next(collisim.stream(scene))
+
+
+@pytest.mark.parametrize("case", ["overlapping bodies", "unknown method"])
+def test_what_the_engine_cannot_start_is_refused_before_a_render_writes(case, tmp_path):
+    scene, message = _start_scene(case)
+    panels = collisim.Scene(panels=[collisim.Panel(scene.replace(world=collisim.World([[1, 1]])), "fine"),
+                                    collisim.Panel(scene, "bad")], fps=30, seconds=0.5)
+    for source in (scene, panels):
+        with pytest.raises(ValueError, match=message):
+            collisim.render(source, tmp_path / "out.mp4")
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_touching_bodies_and_segments_are_allowed():
     r = 0.5
     angle = 0.7   # touching along a diagonal, as arithmetic places them (rounding included)
     second = [2.0 + 2 * r * np.cos(angle), 2.0 + 2 * r * np.sin(angle)]
     world = collisim.World([[2.0, 2.0], second, [5.0, 5.5]], radii=r, segments=[[0, 5, 10, 5]])
-    assert world.n == 3
+    run = collisim.simulate(collisim.Scene(world=world, fps=30, seconds=0.1))
+    assert run.frames == 3
 
 
 BAD_SCENES = {
@@ -72,7 +113,6 @@ BAD_SCENES = {
     "fps zero": (dict(fps=0), "fps must be a finite number > 0"),
     "seconds NaN": (dict(seconds=float("nan")), "seconds must be a finite number > 0"),
     "substeps fractional": (dict(substeps=2.5), "substeps must be a whole number >= 1, got 2.5"),
-    "unknown method": (dict(method="verlet"), "unknown method 'verlet'; choose one of: discrete, ccd"),
     "negative rest speed": (dict(rest_speed=-1), "rest_speed must be >= 0, got -1"),
     "negative tc": (dict(tc=-0.5), "tc must be >= 0, got -0.5"),
 }

@@ -15,7 +15,7 @@ from collisim.analysis import metrics
 from collisim.analysis.compare import DEFAULT_METHODS, compare, format_table, parse_method, rows_to_json
 from collisim.analysis.reference import simulate_pymunk
 from collisim.analysis.reference.pymunk_mirror import Mirror
-from collisim.model.kinds import PAIR, WALL
+from collisim.core.kinds import PAIR, WALL
 
 pytestmark = pytest.mark.comparison
 

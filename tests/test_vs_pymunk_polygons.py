@@ -41,7 +41,7 @@ def test_builders_give_the_worlds_bodies():
             for i, body in enumerate(bodies):
                 assert body.mass == w.masses[i] and body.position == pytest.approx(w.positions[i], abs=1e-15)
                 assert body.angle == w.angles[i] and body.angular_velocity == w.angular_velocities[i]
-                if w.shapes[i] == collisim.model.kinds.POLYGON:
+                if w.shapes[i] == collisim.core.kinds.POLYGON:
                     (shape,) = body.shapes
                     local = w.body_vertices[w.vertex_start[i]:w.vertex_start[i + 1]]
                     # the same vertices (Chipmunk's hull may start at another one)

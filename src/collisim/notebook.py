@@ -4,9 +4,8 @@ short preview a Trajectory shows of itself.
 
     show(scene) -> collisim.render(...) -> MP4 -> Video (._repr_html_: <video>, .path)
 
-This module imports nothing from collisim at load time, so model/trajectory.py can import
-`trajectory_preview_html` without an import cycle (the pipeline is imported when a video is
-made).
+A Trajectory shows that preview through `Trajectory.preview_html`, which this module sets: the
+model sits below the pipeline that makes videos, and does not import it.
 """
 from __future__ import annotations
 
@@ -19,6 +18,11 @@ import tempfile
 from pathlib import Path
 
 import numpy as np
+
+from .core.checks import number
+from .model.scene import Scene
+from .model.trajectory import _FRAME_FIELDS, Trajectory, load_trajectory
+from .pipeline import render
 
 PREVIEW_SIZE = (320, 180)    # a Trajectory's own preview: small ...
 PREVIEW_SECONDS = 5.0        # ... and short, since Jupyter renders it for every displayed run
@@ -64,10 +68,6 @@ def show(source, *, size=(640, 360), seconds=None, embed: bool = True, settings=
     Bad input (an unknown source type, a file that is not a trajectory, seconds <= 0, a size
     that is too small) raises ValueError with one line.
     """
-    from .model.scene import Scene
-    from .model.trajectory import Trajectory, load_trajectory
-    from .pipeline import render
-
     if isinstance(source, (str, os.PathLike)):
         name, source = Path(source).stem, load_trajectory(source)
     elif isinstance(source, Scene):
@@ -103,9 +103,6 @@ def trajectory_preview_html(traj) -> str:
 def first_seconds(traj, seconds: float):
     """The Trajectory cut to its samples at times <= seconds (at least one frame), with the
     events of that span. A trajectory shorter than `seconds` is returned whole."""
-    from .model.trajectory import _FRAME_FIELDS
-    from .model.validate import number
-
     seconds = number("seconds", seconds, positive=True)
     frames = max(1, int(round(seconds * traj.fps)))
     if frames >= traj.frames:
@@ -124,3 +121,6 @@ def _relative_link(path: Path) -> str:
     query so that a browser shows a re-rendered video instead of its cached copy."""
     relative = Path(os.path.relpath(path, Path.cwd())).as_posix()
     return f"{relative}?v={path.stat().st_mtime_ns}"
+
+
+Trajectory.preview_html = trajectory_preview_html

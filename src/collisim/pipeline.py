@@ -19,8 +19,9 @@ import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
-from .engine import stream
+from .engine import METHODS, stream
 from .engine.ahead import Ahead
+from .engine.start import check_scene
 from .interrupts import ctrl_c_safe
 from .io.formats import check_format, output_target
 from .io.sequence import check_sequence_folder
@@ -50,7 +51,8 @@ def scene_chapters(scene: Scene, fps: float | None = None) -> list:
     if scene.chapters:
         return [chapter for part in scene.chapters for chapter in scene_chapters(part, fps)]
     panels = [(p.scene, p.title) for p in scene.panels] or [(scene, "")]
-    sources = [PanelSource(lambda s=s: Ahead(stream(s)), s.render, title, s.frames, s.fps) for s, title in panels]
+    sources = [PanelSource(lambda s=s: Ahead(stream(s, checked=True)), s.render, title, s.frames, s.fps)
+               for s, title in panels]
     return [Chapter(sources, video_frames(video_seconds(scene), fps), scene.render.layout)]
 
 
@@ -96,6 +98,7 @@ def plan(source, size=None, *, fps=None, quality=None, settings: RenderSettings 
     the scene's. `limits` refuses frames over 7680x4320, videos over 100 000 frames and scenes
     of more than 10 000 000 simulation steps."""
     if isinstance(source, Scene):
+        check_scene(source, METHODS)
         if limits:
             check_steps(source)
         base, own_fps, name = source.render.size, source.fps, name or source.name

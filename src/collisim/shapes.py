@@ -13,7 +13,7 @@ import numbers
 
 import numpy as np
 
-from .model.validate import number
+from .core.checks import number
 
 # Below this (relative to the polygon's size) an area or a turn is round-off, not shape.
 NEGLIGIBLE = 1e-12

@@ -74,7 +74,7 @@ import numpy as np
 
 from . import metrics
 from ..engine import simulate
-from ..model.kinds import CIRCLE
+from ..core.kinds import CIRCLE
 
 DEFAULT_METHODS = ("discrete x1", "discrete x8", "ccd", "pymunk x1")
 _LABEL = re.compile(r"^(discrete|pymunk)(?:\s*x\s*(\d+))?$|^(ccd)$")

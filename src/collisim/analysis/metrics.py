@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..model.kinds import CIRCLE, N_WALLS, PAIR, SUPPORT, WALL
+from ..core.kinds import CIRCLE, N_WALLS, PAIR, SUPPORT, WALL
 
 # An event at time t belongs to the interval (t_{f-1}, t_f]. Discrete steps stamp events with
 # step_count·dt, which can differ from f/fps in the last bit: this slack (in frames) absorbs it.
@@ -90,7 +90,7 @@ def overlaps(traj) -> np.ndarray:
 
 def _shape_overlaps(traj, worst) -> np.ndarray:
     """overlaps for a world with polygons: every frame's deepest contact, in radii."""
-    from ..narrowphase.registry import contacts
+    from ..queries.contacts import contacts
 
     radii = traj.world.radii
     for f in range(len(traj.times)):

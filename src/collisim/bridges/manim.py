@@ -30,7 +30,7 @@ except ModuleNotFoundError as error:
     raise ImportError("the manim bridge needs the manim extra: pip install 'collisim[manim]'") from None
 
 from .. import palette
-from ..geometry.polygon import polygon_mass_properties
+from ..core.geometry.polygon import polygon_mass_properties
 from ..model.trajectory import Trajectory
 
 FRAME_FILL = 0.9  # by default the box spans this fraction of the frame's width or height

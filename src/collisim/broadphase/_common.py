@@ -13,9 +13,9 @@ import math
 import numpy as np
 from numba import njit
 
-from ..arrays import grown
-from ..compiling import uncounted
-from ..model.validate import is_whole
+from ..core.arrays import grown
+from ..core.compiling import uncounted
+from ..core.checks import is_whole
 from ._rays import check_ray, sorted_hits
 
 

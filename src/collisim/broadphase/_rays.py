@@ -26,7 +26,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ..arrays import grown
+from ..core.arrays import grown
 
 
 def check_ray(origin, direction, max_distance) -> tuple[float, float, float, float, float]:

@@ -31,8 +31,8 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-from ..compiling import uncounted
-from ..geometry.segment import segment_meets_rect
+from ..core.compiling import uncounted
+from ..core.geometry.segment import segment_meets_rect
 from ..statics.segment_index import build_segment_index, segments_near
 
 CellGrid = namedtuple("CellGrid", ["x0", "y0", "cell_w", "cell_h", "nx", "ny", "cell", "head", "next", "prev",

@@ -28,8 +28,8 @@ The pairs are the boxes' original indices (i < j), in cell order: the step sorts
 import numpy as np
 from numba import njit
 
-from ..arrays import grown
-from ..compiling import uncounted
+from ..core.arrays import grown
+from ..core.compiling import uncounted
 from ._common import boxes_overlap
 from .grid import cell_of
 

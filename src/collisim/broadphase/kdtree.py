@@ -38,7 +38,7 @@ max_distance, nearer child first.
 import numpy as np
 from numba import njit
 
-from ..arrays import grown
+from ..core.arrays import grown
 from ._common import (BroadPhase, bounding_box, boxes_overlap, check_boxes, check_int_option, copy_row, gathered_boxes,
                       new_pair_buffer, overlapping_in_run, push_pair, row_centre, select_smallest, widest_axis)
 from ._rays import farther_then_nearer, hits_in_run, new_hit_buffers, ray_box_entry

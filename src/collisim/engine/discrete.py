@@ -29,11 +29,11 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-from ..arrays import copy_rows
+from ..core.arrays import copy_rows
 from ..broadphase.step import AUTO, candidate_pairs, choose, step_state
-from ..geometry.polygon import place_polygons
-from ..model.kinds import CIRCLE, MAP, N_WALLS, PAIR, SEGMENT, SUPPORT, WALL
-from ..narrowphase.hierarchy import level_scratch, record_levels
+from ..core.geometry.polygon import place_polygons
+from ..core.kinds import CIRCLE, MAP, N_WALLS, PAIR, SEGMENT, SUPPORT, WALL
+from .hierarchy import level_scratch, record_levels
 from ..response.hold import held_note
 from ..response.rows import (margin_of, margins, near_segments, new_found, new_rows, pair_manifolds, rows_from,
                              segment_manifolds, wall_manifolds, was_impact)

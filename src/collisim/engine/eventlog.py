@@ -4,8 +4,8 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-from ..compiling import uncounted
-from ..arrays import grown
+from ..core.compiling import uncounted
+from ..core.arrays import grown
 from ..model.trajectory import Events
 
 EventLog = namedtuple("EventLog", ["time", "kind", "i", "j", "impulse", "point", "size"])

@@ -5,7 +5,7 @@ from collections import namedtuple
 
 import numpy as np
 
-from ..narrowphase.hierarchy import NOT_COUNTED
+from .hierarchy import NOT_COUNTED
 
 Frames = namedtuple("Frames", ["positions", "velocities", "angles", "angular_velocities", "collisions",
                                "candidates", "approximate", "hierarchy"])

@@ -5,7 +5,7 @@ nothing: they do not move). A body is *still* while it moves slower than its res
 turning moves its rim slower than that too. An island whose bodies have all been still for
 SLEEP_TIME falls asleep as a whole — as in Box2D and Chipmunk, whose islands sleep after
 half a second still (Box2D's b2_timeToSleep). The rest speed is the ccd method's
-(engine/ccd/sleep.py: default_rest_speed; Scene.rest_speed states it): the speed of a bounce a
+(engine/rest.py: default_rest_speed; Scene.rest_speed states it): the speed of a bounce a
 thousandth of a body's radius high, and 0 (never sleep) without gravity or with e = 1, so gases
 and elastic scenes run exactly as without sleeping.
 
@@ -32,14 +32,14 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-from ..compiling import uncounted
-from ..geometry.vector import length
-from ..model.kinds import CIRCLE, SUPPORT
+from ..core.compiling import uncounted
+from ..core.geometry.vector import length
+from ..core.kinds import CIRCLE, SUPPORT
 from ..narrowphase.manifold import body_pair_touch
 from ..response.rows import pair_reaches
 from ..response.warmstart import Memory, key_bodies
-from .ccd.sleep import default_rest_speed
 from .eventlog import append, with_room
+from .rest import default_rest_speed
 
 SLEEP_TIME = 0.5   # seconds an island must be still before it sleeps (Box2D's b2_timeToSleep)
 

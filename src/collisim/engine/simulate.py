@@ -9,10 +9,11 @@ import numpy as np
 from ..interrupts import ctrl_c_safe
 from ..model.scene import Scene
 from ..model.trajectory import MAX_EVENTS, Events, Trajectory, approximate_summary
-from ..narrowphase.hierarchy import world_counts
+from .hierarchy import world_counts
 from .ccd.stepper import CCDStepper
 from .discrete import DiscreteStepper
 from .frames import Frames
+from .start import check_scene
 
 # The methods, by the name a scene gives: each builds a stepper with run(count) -> (Frames, Events).
 METHODS = {
@@ -43,13 +44,19 @@ def simulate(scene: Scene, progress=None, max_events: int = MAX_EVENTS, storage:
     arrays).
     """
     check_storage(storage)
+    check_scene(scene, METHODS)
+    return _simulate(scene, progress, max_events, storage)
+
+
+def _simulate(scene: Scene, progress, max_events: int, storage: str):
+    """simulate() of a scene already checked."""
     if scene.panels:
-        return [simulate(panel.scene, progress, max_events, storage) for panel in scene.panels]
+        return [_simulate(panel.scene, progress, max_events, storage) for panel in scene.panels]
     if scene.chapters:
-        return [simulate(chapter, progress, max_events, storage) for chapter in scene.chapters]
+        return [_simulate(chapter, progress, max_events, storage) for chapter in scene.chapters]
     recorder, kept, cut = Recorder(scene.frames + 1, storage), 0, False
     with ctrl_c_safe():
-        for block in stream(scene, progress=progress, into=recorder.views):
+        for block in stream(scene, progress=progress, into=recorder.views, checked=True):
             room = max(max_events - kept, 0)
             if len(block.events) > room:
                 block.events, cut = block.events.take(slice(0, room)), True
@@ -75,16 +82,20 @@ def block_frames(scene: Scene) -> int:
     return int(max(1, min(BLOCK_FRAMES, BLOCK_BYTES // (32 * max(scene.world.n, 1)))))
 
 
-def stream(scene: Scene, block: int | None = None, progress=None, stepper=None, into=None) -> Iterator[Trajectory]:
+def stream(scene: Scene, block: int | None = None, progress=None, stepper=None, into=None,
+           checked: bool = False) -> Iterator[Trajectory]:
     """Yield the trajectory in consecutive blocks of at most `block` samples (by default
     block_frames), so that a long render holds only one block in memory. The first block
     starts with the t = 0 sample. Every block size gives the same bytes. `stepper`: one that
     METHODS built for this scene and that has not run yet (a benchmark reads its counters after).
     into(first, count): where the stepper is to write the positions and velocities of samples
     first .. first + count - 1 (Recorder.views), or None for new arrays; asked for every block
-    but the first."""
+    but the first. checked: the scene has passed check_scene already (the pipeline checks every
+    panel's before it draws anything)."""
     if scene.world is None:
         raise ValueError(f"scene '{scene.name}' is made of panels or chapters; stream each one's scene")
+    if not checked:
+        check_scene(scene, METHODS)
     stepper = METHODS[scene.method](scene) if stepper is None else stepper
     world, total = scene.world, scene.frames
     block = block_frames(scene) if block is None else block

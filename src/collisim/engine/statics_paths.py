@@ -14,10 +14,10 @@ from numba import njit
 from numba.core import types
 from numba.extending import overload
 
-from ..arrays import copy_rows, grown
-from ..compiling import uncounted
-from ..geometry.box import centre_range
-from ..model.kinds import CIRCLE, MAP, N_WALLS, SEGMENT, WALL
+from ..core.arrays import copy_rows, grown
+from ..core.compiling import uncounted
+from ..core.geometry.box import centre_range
+from ..core.kinds import CIRCLE, MAP, N_WALLS, SEGMENT, WALL
 from ..narrowphase.statics import segment_contacts
 from ..response.map import bounce_off_map, push_out
 from ..response.rows import circle_map_manifold, circle_segment_manifolds

@@ -18,7 +18,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from ..files import temporary_beside, written_whole
+from ..core.files import temporary_beside, written_whole
 
 
 def check_writable(folder: Path) -> list:

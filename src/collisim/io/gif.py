@@ -20,7 +20,7 @@ from fractions import Fraction
 
 import numpy as np
 
-from ..files import temporary_beside
+from ..core.files import temporary_beside
 from .base import VideoWriter, fps_fraction, mux
 from .encoders import require_codec
 

@@ -11,7 +11,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from ..files import plain_permissions
+from ..core.files import plain_permissions
 from .base import VideoWriter
 
 PNG_LEVEL = 1   # zlib level: fast; flat animation compresses well anyway

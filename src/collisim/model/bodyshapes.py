@@ -15,8 +15,9 @@ from collections import namedtuple
 
 import numpy as np
 
-from ..geometry.polygon import bounding_radius, polygon_mass_properties
-from .kinds import CIRCLE, POLYGON
+from ..core.geometry.polygon import bounding_radius, polygon_mass_properties
+from ..core.kinds import CIRCLE, POLYGON
+from ..shapes import convex_polygon
 
 ShapeTable = namedtuple("ShapeTable", ["shapes", "start", "vertices", "areas", "second_moments", "radii",
                                        "offsets", "notes"])
@@ -34,7 +35,6 @@ def shape_table(polygons, n: int) -> ShapeTable:
     areas, second, radii = np.full(n, np.nan), np.full(n, np.nan), np.full(n, np.nan)
     offsets, pieces, notes = np.zeros((n, 2)), [], []
     if polygons is not None:
-        from ..shapes import convex_polygon
         if isinstance(polygons, np.ndarray) and polygons.dtype != object or len(polygons) != n:
             raise ValueError(f"polygons must give each of the {n} bodies None (a circle) or its vertices; "
                              f"got {len(polygons)} entries")

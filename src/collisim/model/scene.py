@@ -7,7 +7,7 @@ import warnings
 from dataclasses import dataclass, field
 from typing import Callable, Optional
 
-from . import validate
+from ..core import checks
 from .world import World
 
 QUALITY_SIZES = {"l": (854, 480), "m": (1280, 720), "h": (1920, 1080)}
@@ -40,11 +40,11 @@ class RenderSettings:
 
     def __post_init__(self):
         """Refuse, in one line, what the player could only fail on mid-render."""
-        self.size = validate.whole_pair("size", self.size)
-        self.layout = None if self.layout is None else validate.whole_pair("layout", self.layout)
-        if not validate.is_whole(self.trails):
+        self.size = checks.whole_pair("size", self.size)
+        self.layout = None if self.layout is None else checks.whole_pair("layout", self.layout)
+        if not checks.is_whole(self.trails):
             raise ValueError(f"trails must be a whole number of frames >= 0, got {self.trails!r}")
-        self.arrow_seconds = validate.number("arrow_seconds", self.arrow_seconds, positive=True)
+        self.arrow_seconds = checks.number("arrow_seconds", self.arrow_seconds, positive=True)
         if self.overlay is not None and not callable(self.overlay):
             raise ValueError(f"overlay must be a function overlay(canvas, view, state), got {self.overlay!r}")
         if not isinstance(self.counters, dict) or not all(callable(c) for c in self.counters.values()):
@@ -104,27 +104,20 @@ class Scene:
 
     def validate(self) -> None:
         """Check (and normalise) the fields; ValueError with one line for anything wrong."""
-        self.fps = validate.number("fps", self.fps, positive=True)
-        self.seconds = validate.number("seconds", self.seconds, positive=True)
+        self.fps = checks.number("fps", self.fps, positive=True)
+        self.seconds = checks.number("seconds", self.seconds, positive=True)
         if self.frames < 1:
             raise ValueError(f"seconds={self.seconds:g} at fps={self.fps:g} is shorter than one frame")
         if abs(self.frames - self.fps * self.seconds) > 1e-9 * self.frames:
             warnings.warn(f"{self.seconds:g} s at {self.fps:g} fps is {self.fps * self.seconds:g} frames; "
                           f"using {self.frames} frames ({self.frames / self.fps:g} s)", stacklevel=4)
-        from ..broadphase import NAMES as BROAD_PHASES
-        from ..engine import METHODS
-        if self.method not in METHODS:
-            raise ValueError(f"unknown method {self.method!r}; choose one of: {', '.join(METHODS)}")
-        if not validate.is_whole(self.substeps, 1):
+        if not checks.is_whole(self.substeps, 1):
             raise ValueError(f"substeps must be a whole number >= 1, got {self.substeps!r}")
         self.substeps = int(self.substeps)
         if self.rest_speed is not None:
-            self.rest_speed = validate.number("rest_speed", self.rest_speed, low=0.0)
+            self.rest_speed = checks.number("rest_speed", self.rest_speed, low=0.0)
         if self.tc is not None:
-            self.tc = validate.number("tc", self.tc, low=0.0)
-        if self.broadphase not in ("auto",) + BROAD_PHASES:
-            raise ValueError(f"unknown broad phase {self.broadphase!r}; choose one of: auto, "
-                             f"{', '.join(BROAD_PHASES)}")
+            self.tc = checks.number("tc", self.tc, low=0.0)
         if sum((self.world is not None, bool(self.panels), bool(self.chapters))) != 1:
             raise ValueError("a scene needs exactly one of: a world, panels, chapters")
 

@@ -12,7 +12,7 @@ import sys
 from pathlib import Path
 
 from .scene import Scene
-from .validate import is_file, missing_file
+from ..core.checks import is_file, missing_file
 
 
 def scene_dirs() -> list:

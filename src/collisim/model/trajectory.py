@@ -9,9 +9,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..arrays import grown
-from ..files import written_whole
-from ..notebook import trajectory_preview_html
+from ..core.arrays import grown
+from ..core.checks import StaticMap
+from ..core.files import written_whole
 from .bodyshapes import polygons_of
 from .world import World
 
@@ -152,7 +152,11 @@ class Trajectory:
     storage: str = "float64"
     hierarchy: np.ndarray = None
 
-    _repr_html_ = trajectory_preview_html  # Jupyter shows a short preview video (notebook.py)
+    # how Jupyter shows a run: a short video, which the model cannot make; notebook.py sets it
+    preview_html = None
+
+    def _repr_html_(self):
+        return None if Trajectory.preview_html is None else Trajectory.preview_html(self)
 
     def __post_init__(self):
         if self.hierarchy is None:   # made by a method that does not count (pymunk's trajectories)
@@ -277,8 +281,7 @@ def _embedded_map(arrays: dict, path):
     fields = {key[len("map_"):]: value for key, value in arrays.items() if key.startswith("map_")}
     if not fields:
         return None
-    from ..statics.collision_map import CollisionMap
-    return CollisionMap.from_arrays(fields, path)
+    return StaticMap.kinds["CollisionMap"].from_arrays(fields, path)
 
 
 def _polygons(arrays) -> list | None:

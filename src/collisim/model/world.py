@@ -10,9 +10,10 @@ from __future__ import annotations
 import numpy as np
 
 from ..palette import default_colors
-from . import validate
+from ..core import checks
+from ..core.geometry.polygon import place_polygons
 from .bodyshapes import polygons_of, shape_table
-from .kinds import POLYGON
+from ..core.kinds import POLYGON
 
 
 class World:
@@ -46,22 +47,22 @@ class World:
                  box=(0.0, 0.0, 10.0, 10.0), gravity=(0.0, 0.0), accelerations=None,
                  colors=None, restitution: float = 1.0, segments=None, angles=0.0,
                  angular_velocities=0.0, map=None, polygons=None, friction: float = 0.0):
-        self.positions = validate.positions_array(positions)
+        self.positions = checks.positions_array(positions)
         n = len(self.positions)
         table = shape_table(polygons, n)
-        self.velocities = validate.per_body("velocities", 0.0 if velocities is None else velocities, n, 2)
-        self.angles = validate.per_body("angles", 0.0 if angles is None else angles, n)
-        self.angular_velocities = validate.per_body("angular_velocities",
+        self.velocities = checks.per_body("velocities", 0.0 if velocities is None else velocities, n, 2)
+        self.angles = checks.per_body("angles", 0.0 if angles is None else angles, n)
+        self.angular_velocities = checks.per_body("angular_velocities",
                                                     0.0 if angular_velocities is None else angular_velocities, n)
-        self.gravity = validate.vector("gravity", gravity, "(0, -9.81)")
-        self.accelerations = validate.per_body("accelerations", self.gravity if accelerations is None
+        self.gravity = checks.vector("gravity", gravity, "(0, -9.81)")
+        self.accelerations = checks.per_body("accelerations", self.gravity if accelerations is None
                                                else accelerations, n, 2)
-        self.radii = validate.per_body("radii", radii, n)
+        self.radii = checks.per_body("radii", radii, n)
         polygon = table.shapes == POLYGON
         self.radii = np.where(polygon, table.radii, self.radii)
         self.positions = self.positions + _rotated(table.offsets, self.angles)   # to the centroids
         areas = np.where(polygon, table.areas, np.pi * self.radii ** 2)
-        self.masses = validate.per_body("masses", areas if masses is None else masses, n)
+        self.masses = checks.per_body("masses", areas if masses is None else masses, n)
         if masses is None and np.any((self.masses == 0) & (self.radii > 0)):
             i = int(np.flatnonzero((self.masses == 0) & (self.radii > 0))[0])
             raise ValueError(f"radius {self.radii[i]:g} of body {i} is too small: its area is 0 in floating point")
@@ -69,13 +70,13 @@ class World:
         self._inertia_per_mass = np.where(polygon, table.second_moments / np.where(polygon, table.areas, 1.0),
                                           0.5 * self.radii ** 2)
         self.notes = list(table.notes)
-        self.friction = validate.number("friction", friction, low=0.0)
-        self.box = validate.per_body("box", box, 4)
-        self.segments = validate.segments_array(segments)
-        self.map = validate.collision_map(map)
+        self.friction = checks.number("friction", friction, low=0.0)
+        self.box = checks.per_body("box", box, 4)
+        self.segments = checks.segments_array(segments)
+        self.map = checks.collision_map(map)
         if restitution is None:
             raise ValueError("restitution must be a number in [0, 1], got None")
-        self.restitution = validate.number("restitution", restitution, low=0.0, high=1.0)
+        self.restitution = checks.number("restitution", restitution, low=0.0, high=1.0)
         self.colors = default_colors(self.radii) if colors is None else np.array(colors, dtype=np.uint8).reshape(n, 3)
         self.validate()
 
@@ -92,7 +93,6 @@ class World:
     def placed_vertices(self, positions=None, angles=None) -> np.ndarray:
         """Every polygon's vertices (V, 2) in the world, at the bodies' own poses unless given
         (positions (n, 2), angles (n,)); body i's are rows vertex_start[i]:vertex_start[i + 1]."""
-        from ..geometry.polygon import place_polygons
         positions = self.positions if positions is None else np.ascontiguousarray(positions, np.float64)
         angles = self.angles if angles is None else np.ascontiguousarray(angles, np.float64)
         return place_polygons(self.body_vertices, self.vertex_start, positions, angles,
@@ -134,7 +134,8 @@ class World:
         return self.n == 0 or bool(np.all(self.accelerations == self.accelerations[0]))
 
     def validate(self) -> None:
-        """Raise ValueError with one clear line for any state the engine cannot run (model/validate.py)."""
+        """Raise ValueError with one clear line for any state the engine cannot run (core/checks.py);
+        overlaps between bodies and statics are checked where the engine starts (engine/start.py)."""
         xmin, ymin, xmax, ymax = self.box
         if not (xmax > xmin and ymax > ymin):
             raise ValueError(f"box must have xmax > xmin and ymax > ymin, got {self.box.tolist()}")
@@ -156,7 +157,6 @@ class World:
         if np.any(self.shapes == POLYGON) and self.map is not None:
             raise ValueError("polygon bodies meet the box walls, segments and each other; collision maps "
                              "collide with circles only: leave the map out of a world with polygons")
-        validate.no_overlaps(self)
 
     def _moves_where_it_fits(self, lo, hi) -> None:
         """ValueError for a body as wide (or as tall) as the box that moves across it: pressed

@@ -2,7 +2,7 @@
 sum of their radii. The contact normal is the line of centres from i to j."""
 from numba import njit
 
-from ..geometry.circle import line_of_centres
+from ..core.geometry.circle import line_of_centres
 
 
 @njit(cache=True)

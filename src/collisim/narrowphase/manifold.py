@@ -25,8 +25,8 @@ from numba import njit
 from numba.core import types
 from numba.extending import overload
 
-from ..compiling import uncounted
-from ..model.kinds import CIRCLE
+from ..core.compiling import uncounted
+from ..core.kinds import CIRCLE
 from .circles import circle_circle, circles_touch
 from .polygons import (box_wall_halfplane, placed_polygons_touch, polygon_circle, polygon_circle_touch,
                        polygon_halfplane, polygon_segment, speculative_polygons)

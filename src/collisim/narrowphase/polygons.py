@@ -36,10 +36,10 @@ import math
 import numpy as np
 from numba import njit
 
-from ..compiling import uncounted
-from ..geometry.box import wall_geometry
-from ..geometry.segment import closest_on_segment
-from ..geometry.vector import length
+from ..core.compiling import uncounted
+from ..core.geometry.box import wall_geometry
+from ..core.geometry.segment import closest_on_segment
+from ..core.geometry.vector import length
 
 # A face of b is only preferred over a's face when it is this much (relative to the shorter of
 # the two faces) less deep: near ties then keep the same reference face from step to step,

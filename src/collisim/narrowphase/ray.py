@@ -8,8 +8,8 @@ test would read its vertices from the world's arrays the way the circle reads it
 import numpy as np
 from numba import njit
 
-from ..geometry.ray import ray_circle
-from ..model.kinds import CIRCLE
+from ..core.geometry.ray import ray_circle
+from ..core.kinds import CIRCLE
 
 RAY_TESTS = {CIRCLE: ray_circle}
 

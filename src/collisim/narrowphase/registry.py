@@ -4,7 +4,7 @@ Box2D keeps such a table (`s_registers[shapeA][shapeB]` in contact.c); here it i
 readers, tests and tools, and compiled dispatchers: `touching` and `contact` for pairs of circles
 (a test checks that every row of the table is dispatched), and narrowphase/manifold.py's
 `pair_manifold`, which the engine calls per candidate pair for every pair of shapes (circles and
-convex polygons, with speculative points), and `contacts` below uses too (both through
+convex polygons, with speculative points), and `contact_table` (queries/contacts.py) uses too (both through
 `body_pair_manifold`, so a world of circles compiles no polygon path).
 
 A contact is (nx, ny, depth, px, py): the unit normal from the first body towards the second,
@@ -13,7 +13,7 @@ the overlap depth (negative when apart) and the contact point.
 import numpy as np
 from numba import njit
 
-from ..model.kinds import CIRCLE
+from ..core.kinds import CIRCLE
 from .circles import circle_circle, circles_touch
 from .manifold import body_pair_manifold
 from .statics import circle_segment
@@ -53,19 +53,3 @@ def contact_table(shapes, positions, radii, vertices, start, candidates, polygon
             table[count, 4], table[count, 5], table[count, 6] = depth, px, py
             count += 1
     return table[:count]
-
-
-def contacts(world, positions=None, angles=None) -> dict:
-    """The contacts between the bodies of `world` (at `positions` (n, 2) and `angles` (n,), by
-    default the world's own), one per contact point (a face on a face has two): pairs (k, 2) with
-    i < j, normals (k, 2) from i to j, depths (k,) (>= 0), points (k, 2) midway between the
-    surfaces."""
-    from ..broadphase import find_pairs
-    positions = world.positions if positions is None else np.asarray(positions, np.float64)
-    reach = world.radii[:, None]
-    candidates = find_pairs("grid", positions - reach, positions + reach)
-    vertices = world.placed_vertices(positions, angles)
-    polygons = True if np.any(world.shapes != CIRCLE) else None
-    table = contact_table(world.shapes, positions, world.radii, vertices, world.vertex_start, candidates, polygons)
-    return {"pairs": table[:, :2].astype(np.int64), "normals": table[:, 2:4], "depths": table[:, 4],
-            "points": table[:, 5:]}

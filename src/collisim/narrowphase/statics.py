@@ -2,9 +2,9 @@
 import numpy as np
 from numba import njit
 
-from ..arrays import grown
-from ..geometry.segment import segment_contact
-from ..statics.segment_index import segments_near
+from ..core.arrays import grown
+from ..core.geometry.segment import segment_contact
+from ..statics.segment_index import build_segment_index, segments_near
 
 
 @njit(cache=True)
@@ -38,7 +38,6 @@ def segment_contacts(positions, radii, segments, index, contacts, near):
 def touching_segments(positions, radii, segments, box) -> tuple:
     """Which circles touch which segments, outside a run (validation, tools): pairs (k, 2)
     body, segment, and their depths (k,), through a static index built for the call."""
-    from ..statics.segment_index import build_segment_index
     found, count = segment_contacts(positions, radii, segments, build_segment_index(segments, box),
                                     empty_contacts(), np.empty(len(segments), np.int64))
     pairs = found[:count].copy()

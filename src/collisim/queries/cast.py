@@ -12,8 +12,8 @@ from numba import njit
 
 from ..broadphase.ray_closest import body_ray_closest
 from ..broadphase.ray_hit import MAP, SEGMENT, WALL, Ray, keep_closer, no_hit
-from ..geometry.ray import ray_walls
-from ..statics.segment_rays import nearest_segment, segment_ray_closest
+from ..core.geometry.ray import ray_walls
+from .segment_rays import nearest_segment, segment_ray_closest
 
 
 @njit(cache=True)

@@ -41,7 +41,7 @@ from ..broadphase._rays import check_ray
 from ..broadphase.ray_closest import ray_state
 from ..broadphase.ray_hit import HIT_KINDS
 from ..broadphase.step import AUTO, choose
-from ..statics.segment_rays import segment_grid
+from .segment_rays import segment_grid
 from .cast import cast_rays, unit_directions
 
 KIND_NAMES = HIT_KINDS  # code -> name; -1 is no hit

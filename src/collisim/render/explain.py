@@ -40,7 +40,7 @@ import numpy as np
 
 from .. import palette
 from . import raster, textcache
-from ..model.validate import is_whole
+from ..core.checks import is_whole
 from .items import Arrow, Caption, Figure, Mark, Note, Point, check_choice
 
 BASE_HEIGHT = 480.0        # a panel this tall draws text at its base size

@@ -4,7 +4,7 @@ from __future__ import annotations
 import cv2
 
 from .. import palette
-from ..model.kinds import CIRCLE
+from ..core.kinds import CIRCLE
 from ..model.trajectory import NOT_COUNTED
 from .raster import draw_text
 

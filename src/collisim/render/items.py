@@ -12,7 +12,7 @@ from typing import Callable, Optional, Union
 
 import numpy as np
 
-from ..model.validate import is_whole
+from ..core.checks import is_whole
 
 Point = Union[tuple, np.ndarray, Callable]
 STRIP_NAMES = ("top", "bottom")

@@ -15,7 +15,7 @@ from typing import Callable, Iterator
 import numpy as np
 
 from .. import palette
-from ..model.kinds import CIRCLE, SUPPORT
+from ..core.kinds import CIRCLE, SUPPORT
 from ..model.scene import RenderSettings
 from ..model.trajectory import Events, PastEvents, approximate_summary
 from . import explain, raster

@@ -14,7 +14,7 @@ import cv2
 import numpy as np
 
 from .. import palette
-from ..model.kinds import CIRCLE
+from ..core.kinds import CIRCLE
 from . import splat
 
 SHIFT = 4

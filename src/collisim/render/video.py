@@ -18,7 +18,7 @@ from numba.core import event as numba_event
 
 from .. import palette
 from ..io.writers import open_writer, write_png
-from ..model.validate import number
+from ..core.checks import number
 from . import bands
 from .player import Timeline
 from .raster import bgr

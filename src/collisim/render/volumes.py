@@ -16,7 +16,7 @@ import numpy as np
 
 from .. import palette
 from ..model.trajectory import LEVELS, NOT_COUNTED
-from ..narrowphase.hierarchy import CX, CY, HALF_H, HALF_W, UX, UY, XMAX, XMIN, YMAX, YMIN, hierarchy, volumes_of
+from ..engine.hierarchy import CX, CY, HALF_H, HALF_W, UX, UY, XMAX, XMIN, YMAX, YMIN, hierarchy, volumes_of
 from . import explain, raster
 from .structures import width
 

@@ -7,7 +7,7 @@ obliges the compiled code to read everything again (it cannot know that the arra
 overlap): twice the time. A call handed the Rows tuple itself (16 arrays) would cost about half
 a microsecond whatever it does.
 """
-from ..compiling import uncounted
+from ..core.compiling import uncounted
 
 
 @uncounted

@@ -37,11 +37,11 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-from ..compiling import uncounted
-from ..geometry.box import wall_geometry
-from ..geometry.toi import time_to_pair
-from ..geometry.vector import length
-from ..model.kinds import CIRCLE, N_WALLS
+from ..core.compiling import uncounted
+from ..core.geometry.box import wall_geometry
+from ..core.geometry.toi import time_to_pair
+from ..core.geometry.vector import length
+from ..core.kinds import CIRCLE, N_WALLS
 from ..narrowphase.circles import circles_touch
 from ..narrowphase.manifold import body_pair_manifold, body_segment_manifold, body_wall_manifold
 from ..narrowphase.statics import circle_segment

@@ -24,7 +24,7 @@ import math
 
 from numba import njit
 
-from ..geometry.box import centre_range
+from ..core.geometry.box import centre_range
 from ..narrowphase.statics import circle_segment
 
 FOLD_AFTER = 64        # reflections in one step before an elastic free flight is folded in O(1)

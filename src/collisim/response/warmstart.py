@@ -17,8 +17,8 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-from ..compiling import uncounted
-from ..model.kinds import N_WALLS
+from ..core.compiling import uncounted
+from ..core.kinds import N_WALLS
 from .rows import was_impact
 
 Memory = namedtuple("Memory", ["keys", "impulses", "frictions"])

@@ -27,8 +27,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..files import written_whole
-from ..model.validate import number
+from ..core.files import written_whole
+from ..core.checks import StaticMap, number
 from .map_chains import trace_chains
 from .map_field import MapField, has_map, make_field, map_sample, no_map_field, sample_points, signed_distance_grid
 from .map_image import rasterize_polygons, solid_mask, world_origin
@@ -39,7 +39,7 @@ MAP_FORMAT = 1   # the version of the map file written by save()
 _FILE_KEYS = ("map_format", "solid", "distance", "cell", "origin", "segments", "chain_vertices", "chain_offsets")
 
 
-class CollisionMap:
+class CollisionMap(StaticMap):
     """A level precomputed from a bitmap (made by from_image or load).
 
     solid: (ny, nx) bool            the solid pixels, row 0 = the lowest y

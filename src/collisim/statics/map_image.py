@@ -15,7 +15,7 @@ import cv2
 import numpy as np
 from numba import njit
 
-from ..model.validate import number
+from ..core.checks import number
 
 _CHANNELS = {"r": 0, "g": 1, "b": 2, "a": 3}   # of an RGB(A) image
 

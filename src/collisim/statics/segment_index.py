@@ -42,7 +42,7 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-from ..geometry.segment import clip_step
+from ..core.geometry.segment import clip_step
 
 MAX_CELLS = 4_000_000  # 32 MB of cell_start; more cells than this buys nothing
 

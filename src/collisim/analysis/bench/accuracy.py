@@ -65,7 +65,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...files import save_figure, write_table
+from ...core.files import save_figure, write_table
 from .. import metrics
 from ..compare import measure, method_label, run_method
 from ..reference.plain_pymunk import simulate_plain_pymunk, time_plain_pymunk

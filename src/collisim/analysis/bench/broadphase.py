@@ -41,7 +41,7 @@ import time
 import numpy as np
 
 from collisim.broadphase import NAMES, make
-from collisim.files import save_figure, write_table
+from collisim.core.files import save_figure, write_table
 
 BRUTE_MAX_N = 3000  # brute force above this would take minutes
 RADII = (1.0, 1.5, 2.0)

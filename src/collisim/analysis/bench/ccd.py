@@ -31,7 +31,7 @@ import time
 
 import numpy as np
 
-from ...files import write_table
+from ...core.files import write_table
 from ...engine.simulate import METHODS, stream
 from ..reference.plain_pymunk import time_plain_pymunk
 from .accuracy import lossless_substeps, warm_up

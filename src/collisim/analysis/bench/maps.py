@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 import collisim
-from collisim.files import save_figure, write_table
+from collisim.core.files import save_figure, write_table
 from collisim.statics.collision_map import CollisionMap
 
 RADIUS = 0.2

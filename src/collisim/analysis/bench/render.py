@@ -32,7 +32,7 @@ import numpy as np
 
 import collisim
 from collisim import palette
-from collisim.files import write_text
+from collisim.core.files import write_text
 from collisim.gas import lattice_gas
 from collisim.io.writers import open_writer
 from collisim.palette import default_colors

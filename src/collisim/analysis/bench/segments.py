@@ -16,7 +16,7 @@ import collisim
 from collisim.gas import lattice_gas
 from collisim.narrowphase.statics import touching_segments
 
-from ...files import write_text
+from ...core.files import write_text
 from .broadphase import time_discrete_step
 
 

@@ -14,7 +14,7 @@ import numpy as np
 import pymunk
 import pymunk.batch
 
-from ...model.kinds import POLYGON
+from ...core.kinds import POLYGON
 from ...model.trajectory import Events
 
 _STATE_FIELDS = (pymunk.batch.BodyFields.POSITION | pymunk.batch.BodyFields.ANGLE

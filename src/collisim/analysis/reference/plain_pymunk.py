@@ -49,7 +49,7 @@ import numpy as np
 import pymunk
 import pymunk.batch
 
-from ...model.kinds import PAIR, SEGMENT, WALL
+from ...core.kinds import PAIR, SEGMENT, WALL
 from ...model.trajectory import Events, Trajectory
 from .bodies import add_body, events_from_rows, read_state
 

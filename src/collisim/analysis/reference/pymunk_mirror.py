@@ -85,7 +85,7 @@ import numpy as np
 import pymunk
 import pymunk.batch
 
-from ...model.kinds import PAIR, POLYGON, SEGMENT, WALL
+from ...core.kinds import PAIR, POLYGON, SEGMENT, WALL
 from ...model.trajectory import Events, Trajectory
 from .bodies import add_body, events_from_rows, read_state
 

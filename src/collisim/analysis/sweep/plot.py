@@ -15,7 +15,7 @@ import math
 import re
 from pathlib import Path
 
-from ...files import save_figure
+from ...core.files import save_figure
 from ..bench.accuracy import ErrorKind, plot_error
 from ..compare import method_label
 

@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ...broadphase import NAMES as BROAD_PHASES
-from ...model.validate import is_file, missing_file
+from ...core.checks import is_file, missing_file
 from .workloads import WORKLOADS, takes
 
 if sys.version_info >= (3, 11):

@@ -23,7 +23,7 @@ obstacle that gives it a velocity across its support.
 import math
 from collections import namedtuple
 
-from ...compiling import uncounted
+from ...core.compiling import uncounted
 
 Bodies = namedtuple("Bodies", ["pos", "vel", "acc", "t_ref", "radius", "mass", "support", "wedge",
                                "support_normal", "counter", "horizon", "asleep", "last_hit", "slow_since",

@@ -33,12 +33,12 @@ import math
 import numpy as np
 from numba import njit
 
-from ...arrays import copy_rows
-from ...compiling import uncounted
+from ...core.arrays import copy_rows
+from ...core.compiling import uncounted
 from ...broadphase.cells import reach_block, segment_range
-from ...geometry.box import wall_geometry
-from ...geometry.segment import segment_contact
-from ...model.kinds import N_WALLS, PAIR, SUPPORT
+from ...core.geometry.box import wall_geometry
+from ...core.geometry.segment import segment_contact
+from ...core.kinds import N_WALLS, PAIR, SUPPORT
 from ..eventlog import append, with_room
 from .bodies import advance, wake
 from .leaning import SLEEP_GAP, UPRIGHT, held_up

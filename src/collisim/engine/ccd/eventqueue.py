@@ -20,9 +20,9 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-from ...arrays import copy_rows
-from ...compiling import inlined, uncounted
-from ...model.kinds import SEGMENT
+from ...core.arrays import copy_rows
+from ...core.compiling import inlined, uncounted
+from ...core.kinds import SEGMENT
 
 assert SEGMENT < 3  # the bookkeeping kinds below sort after every collision kind
 

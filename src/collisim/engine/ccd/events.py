@@ -54,10 +54,11 @@ import numpy as np
 from numba import njit
 
 from ...broadphase.cells import assign_all, make_grid
-from ...compiling import uncounted
-from ...geometry.box import clamp_into_box
-from ...model.kinds import N_WALLS, PAIR, SEGMENT, WALL
+from ...core.compiling import uncounted
+from ...core.geometry.box import clamp_into_box
+from ...core.kinds import N_WALLS, PAIR, SEGMENT, WALL
 from ..eventlog import new_log, with_room
+from ..rest import default_rest_speed
 from .bodies import FREE, Bodies, Environment, advance, position_at, velocity_at
 from .carried import carry_sleepers
 from .eventqueue import SLIDE_OFF, clear, new_queue, reserve
@@ -65,7 +66,7 @@ from .fallback import freeze_storm, skip_to_frame, thaw
 from .frame_events import (INVOLVED, NEED, NEED_LOG, NEED_QUEUE, OVER_BUDGET, PROCESSED, STATE_SIZE, frame_events,
                            reschedule)
 from .resolve import default_tc, new_contacts
-from .sleep import default_rest_speed, doze_all
+from .sleep import doze_all
 from .support import log_frame_supports, new_supports
 
 

@@ -32,7 +32,7 @@ of it skipped, as above, and the bodies colliding at t_last put to sleep.
 """
 import math
 
-from ...compiling import uncounted
+from ...core.compiling import uncounted
 from ...broadphase.cells import reach_block
 from .bodies import advance, fall_asleep
 

@@ -7,9 +7,9 @@ room, frame_events stops where it is, says what it needs (NEED_LOG, NEED_QUEUE),
 (events.run) grows it and calls again: the event goes on from that point, so a frame is the
 same whatever the log's and the queue's sizes were.
 """
-from ...compiling import inlined, uncounted
-from ...geometry.circle import line_of_centres
-from ...model.kinds import PAIR, SEGMENT, WALL
+from ...core.compiling import inlined, uncounted
+from ...core.geometry.circle import line_of_centres
+from ...core.kinds import PAIR, SEGMENT, WALL
 from ...broadphase.cells import move
 from ..eventlog import append, has_room as log_has_room
 from .bodies import advance, release

@@ -11,10 +11,10 @@ in place.
 """
 import math
 
-from ...compiling import uncounted
-from ...geometry.box import wall_geometry
-from ...geometry.segment import segment_contact
-from ...model.kinds import N_WALLS
+from ...core.compiling import uncounted
+from ...core.geometry.box import wall_geometry
+from ...core.geometry.segment import segment_contact
+from ...core.kinds import N_WALLS
 from ...broadphase.cells import reach_block, segment_range
 from .bodies import position_at
 

@@ -14,10 +14,10 @@ bodies kept out of the cell lists (broadphase/cells.py) are tested from both
 sides: i tests each of them whose reach covers its cell, and a large body
 tests the block of cells its reach covers.
 """
-from ...compiling import inlined, uncounted
-from ...geometry.box import wall_geometry
-from ...geometry.toi import time_to_point, time_to_segment, time_to_wall
-from ...model.kinds import N_WALLS, PAIR, SEGMENT, WALL
+from ...core.compiling import inlined, uncounted
+from ...core.geometry.box import wall_geometry
+from ...core.geometry.toi import time_to_point, time_to_segment, time_to_wall
+from ...core.kinds import N_WALLS, PAIR, SEGMENT, WALL
 from .bodies import FREE, position_at, rests_on, velocity_at
 from .eventqueue import CELL, SLIDE_OFF, event_key, push
 from ...broadphase.cells import cell_bounds, is_apart, reach_block

@@ -58,11 +58,11 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-from ...compiling import uncounted
-from ...geometry.box import wall_geometry
-from ...geometry.circle import line_of_centres
-from ...geometry.segment import segment_contact
-from ...model.kinds import N_WALLS, PAIR, SEGMENT, WALL
+from ...core.compiling import uncounted
+from ...core.geometry.box import wall_geometry
+from ...core.geometry.circle import line_of_centres
+from ...core.geometry.segment import segment_contact
+from ...core.kinds import N_WALLS, PAIR, SEGMENT, WALL
 from .bodies import comes_to_rest, keep_or_release, rest_on
 
 TC_SHARE = 0.01   # the default tc: this share of the time gravity takes to reach the rest speed

@@ -61,16 +61,14 @@ storm and lets the rest of the frame go on (fallback.py), so that those above se
 """
 import math
 
-from ...compiling import uncounted
-from ...geometry.box import wall_geometry
-from ...geometry.segment import segment_contact
-from ...model.kinds import N_WALLS, PAIR, WALL
+from ...core.compiling import uncounted
+from ...core.geometry.box import wall_geometry
+from ...core.geometry.segment import segment_contact
+from ...core.kinds import N_WALLS, PAIR, WALL
 from ...broadphase.cells import reach_block, segment_range
 from .bodies import REST_HEIGHT, advance, fall_asleep, position_at, rest_on, rests_on, velocity_at, wake
 from .leaning import SLEEP_GAP, UPRIGHT, leans_on_a_body, yields
 
-# The default rest speed: that of a bounce this fraction of the radius high.
-SLEEP_HEIGHT = 1e-3
 # A body slow at every frame time for as long as gravity takes to change a speed by this many
 # rest speeds is carried by what it touches, whether or not those sleep yet.
 SLOW_SPEEDS = 4.0
@@ -78,16 +76,6 @@ SLOW_SPEEDS = 4.0
 # slowly (a pyramid's top ball comes down at about a seventh of g at first), but a jam that only
 # rattles in place must still come to rest.
 SLOW_SPEEDS_GIVING_WAY = 40.0
-
-
-def default_rest_speed(gravity, radii, restitution):
-    """(n,) the rest speed of each body when the scene does not state one: sqrt(2 |g|
-    SLEEP_HEIGHT r), the speed of a bounce a thousandth of its radius high — 0 (never sleep)
-    without gravity or when e = 1, so elastic gases and gravity-free scenes run exactly as
-    without sleeping."""
-    if restitution >= 1.0:
-        return 0.0 * radii
-    return (2.0 * math.hypot(gravity[0], gravity[1]) * SLEEP_HEIGHT * radii) ** 0.5
 
 
 @uncounted

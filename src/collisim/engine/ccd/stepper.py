@@ -11,7 +11,7 @@ import time
 
 import numpy as np
 
-from ...model.kinds import CIRCLE, MAP, SEGMENT
+from ...core.kinds import CIRCLE, MAP, SEGMENT
 from ...model.trajectory import Events
 from ..frames import constant_angles, new_frames
 from ..profile import Profile

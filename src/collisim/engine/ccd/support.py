@@ -18,10 +18,10 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-from ...compiling import uncounted
-from ...geometry.box import wall_geometry
-from ...geometry.segment import segment_contact
-from ...model.kinds import N_WALLS, SUPPORT
+from ...core.compiling import uncounted
+from ...core.geometry.box import wall_geometry
+from ...core.geometry.segment import segment_contact
+from ...core.kinds import N_WALLS, SUPPORT
 from ..eventlog import append, with_room
 from .bodies import FREE, position_at
 

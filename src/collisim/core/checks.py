@@ -1,10 +1,8 @@
-"""Checks that turn a state the engine cannot run into one clear line (ValueError).
+"""Checks that turn a value collisim cannot use into one clear line (ValueError).
 
 Arrays are checked for shape before anything is broadcast (a single body written flat as
-[x, y] is a mistake, not two bodies), numbers for type and range, and the initial state for
-overlaps: bodies that start inside each other, or inside a segment, have no defined contact
-normal or order of events, so every method would silently do something different.
-Touching is allowed (within a relative 1e-9, so bodies placed touching by arithmetic pass).
+[x, y] is a mistake, not two bodies), numbers for type and range, paths for being files. The
+initial state's overlaps are checked where the engine starts (engine/start.py).
 """
 from __future__ import annotations
 
@@ -12,9 +10,6 @@ import numbers
 from pathlib import Path
 
 import numpy as np
-
-TOUCH_TOLERANCE = 1e-9   # relative to the contact distance
-
 
 def number(name: str, value, *, low=None, high=None, positive=False) -> float:
     """value as a finite float, or ValueError naming `name`."""
@@ -106,10 +101,20 @@ def segments_array(value) -> np.ndarray:
     return _rows("segments", [] if value is None else value, 4, "(m, 4) rows x0, y0, x1, y1", flat_row=True)
 
 
+class StaticMap:
+    """What a World accepts as its map: statics/collision_map.CollisionMap derives from it, so
+    the model checks a map, and loads one saved with a trajectory (kinds, by class name),
+    without importing the statics that build one."""
+    kinds = {}
+
+    def __init_subclass__(cls, **options):
+        super().__init_subclass__(**options)
+        StaticMap.kinds[cls.__name__] = cls
+
+
 def collision_map(value):
     """A CollisionMap (statics/collision_map.py) or None."""
-    from ..statics.collision_map import CollisionMap
-    if value is not None and not isinstance(value, CollisionMap):
+    if value is not None and not isinstance(value, StaticMap):
         raise ValueError(f"map must be a collisim.CollisionMap or None, got {type(value).__name__}")
     return value
 
@@ -126,63 +131,6 @@ def _rows(name: str, value, columns: int, shape_text: str, hint: str = "", flat_
         raise ValueError(f"{name} must have shape {shape_text}, got shape {array.shape}{extra}")
     _check_finite(name, array)
     return array
-
-
-def no_overlaps(world) -> None:
-    """ValueError naming the first pair of bodies, or body and segment, that overlap."""
-    from ..narrowphase.registry import contacts
-    from ..narrowphase.statics import touching_segments
-    if world.n >= 2:
-        found = contacts(world)
-        pairs, depths = found["pairs"], found["depths"]
-        deep = np.flatnonzero(depths > world.radii[pairs].sum(axis=1) * TOUCH_TOLERANCE)
-        if deep.size:
-            i, j = pairs[deep[0]]
-            raise ValueError(f"bodies {i} and {j} overlap by {depths[deep[0]]:.3g} at the start; "
-                             f"place them apart or touching")
-    if len(world.segments):
-        pairs, depths = touching_segments(world.positions, world.radii, world.segments, world.box)
-        depths = _polygon_depths(world, pairs, depths)
-        deep = np.flatnonzero(depths > world.radii[pairs[:, 0]] * TOUCH_TOLERANCE)
-        if deep.size:
-            i, s = pairs[deep[0]]
-            raise ValueError(f"body {i} overlaps segment {s} by {depths[deep[0]]:.3g} at the start; "
-                             f"place it apart or touching")
-    if world.map is not None:
-        _outside_map(world)
-
-
-def _polygon_depths(world, pairs, depths):
-    """depths of (body, segment) pairs found by bounding circles, exact for polygon bodies."""
-    from ..model.kinds import CIRCLE
-    from ..narrowphase.manifold import polygon_segment_manifold
-    polygons = np.flatnonzero(world.shapes[pairs[:, 0]] != CIRCLE)
-    if polygons.size == 0:
-        return depths
-    depths, vertices = depths.copy(), world.placed_vertices()
-    for row in polygons:   # a start-up check, once per world: not a hot path
-        m = polygon_segment_manifold(vertices, world.vertex_start, pairs[row, 0], world.segments, pairs[row, 1], 0.0)
-        depths[row] = m[3] if m[2] > 0 else -1.0
-    return depths
-
-
-def _outside_map(world) -> None:
-    """ValueError naming the first body that starts inside the collision map's solid, or
-    overlapping its contour chains (which ccd collides with exactly)."""
-    from ..narrowphase.statics import touching_segments
-    depths = world.radii - world.map.distance(world.positions)
-    # the distance field is exact only to about a cell: its own tolerance is half a cell
-    deep = np.flatnonzero(depths > 0.5 * world.map.cell + world.radii * TOUCH_TOLERANCE)
-    if deep.size:
-        i = deep[0]
-        raise ValueError(f"body {i} at ({world.positions[i, 0]:g}, {world.positions[i, 1]:g}) starts inside the "
-                         f"collision map's solid; place it in free space")
-    pairs, depths = touching_segments(world.positions, world.radii, world.map.segments, world.box)
-    deep = np.flatnonzero(depths > world.radii[pairs[:, 0]] * TOUCH_TOLERANCE)
-    if deep.size:
-        i = pairs[deep[0], 0]
-        raise ValueError(f"body {i} overlaps the collision map's outline by {depths[deep[0]]:.3g} at the start; "
-                         f"place it in free space")
 
 
 def _floats(name: str, value) -> np.ndarray:

@@ -35,13 +35,14 @@ from numba import njit
 from numba.core import types
 from numba.extending import overload
 
+from ..broadphase import find_pairs
 from ..broadphase.step import candidate_pairs
-from ..compiling import uncounted
-from ..geometry.polygon import oriented_box, place_polygons, polygon_bounds
-from ..model.kinds import CIRCLE
+from ..core.compiling import uncounted
+from ..core.geometry.polygon import oriented_box, place_polygons, polygon_bounds
+from ..core.kinds import CIRCLE
 from ..model.trajectory import NOT_COUNTED
-from .circles import circles_touch
-from .manifold import shapes_touch
+from ..narrowphase.circles import circles_touch
+from ..narrowphase.manifold import shapes_touch
 
 SLACK = 1e-9         # polygons' volumes grown by this share of their bounding radius (see above)
 # a body's volumes, one row each: its box, then its oriented box's centre, axis and half extents
@@ -286,7 +287,6 @@ def hierarchy(world, positions=None, angles=None, pairs=None) -> dict:
     overlap), each pair's level (k,) (how many of LEVELS it passes in order), each level on its
     own `passes` (k, 4) bool (for tests: every touching pair passes every level), and counts (4,):
     the pairs passing each level."""
-    from ..broadphase import find_pairs
     positions = world.positions if positions is None else np.ascontiguousarray(positions, np.float64)
     angles = world.angles if angles is None else np.ascontiguousarray(angles, np.float64)
     if pairs is None:

@@ -15,9 +15,9 @@ from numba import njit
 
 from ..broadphase.grid_cursor import begin_walk, cell_bounds_both_ways, next_cell
 from ..broadphase.ray_hit import keep_closer, search_limit
-from ..geometry.ray import ray_segment
-from ..geometry.segment import closest_on_segment
-from .segment_index import build_segment_index
+from ..core.geometry.ray import ray_segment
+from ..core.geometry.segment import closest_on_segment
+from ..statics.segment_index import build_segment_index
 
 SegmentGrid = namedtuple("SegmentGrid", ["segments", "cell_start", "cell_segments", "bounds"])
 SegmentGrid.__doc__ = """m segments (m, 4) and their index as a ray walks it: bounds is a

@@ -71,7 +71,7 @@ def plain_constants() -> None:
     dispatcher.Dispatcher.get_call_template = get_call_template
 
 
-PACKAGE = os.path.dirname(os.path.abspath(__file__))   # the sources whose kernels are stamped
+PACKAGE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))   # collisim/: the sources whose kernels are stamped
 
 
 @functools.lru_cache(maxsize=None)
@@ -177,7 +177,7 @@ class _ReturnsNoArray(FunctionPass):
     def run_pass(self, state):
         if _holds_an_array(state.return_type):
             raise errors.TypingError(f"{state.func_id.func_qualname} is compiled without reference counting "
-                                     f"(collisim.compiling.uncounted) and may not return an array: it returns "
+                                     f"(collisim.core.compiling.uncounted) and may not return an array: it returns "
                                      f"{state.return_type}")
         return False
 

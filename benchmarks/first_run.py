@@ -13,7 +13,7 @@ on the way, which are timed as theirs), and both runs time numba's cache (entrie
 seconds loading and saving). Wall seconds are the process's as the parent sees it; on a shared
 machine its CPU seconds are the steadier figure.
 
-    python -m collisim.analysis.bench.first_run particles_250 --method discrete ccd --top 15
+    python benchmarks/first_run.py particles_250 --method discrete ccd --top 15
 """
 from __future__ import annotations
 
@@ -106,7 +106,7 @@ def measure(scene: str, method: str | None = None, warm_repeats: int = 1) -> dic
         env.pop("PYTHONDONTWRITEBYTECODE", None)
         runs, walls = [], []
         for _ in range(1 + warm_repeats):
-            command = [sys.executable, "-m", "collisim.analysis.bench.first_run", "--child", scene]
+            command = [sys.executable, os.path.abspath(__file__), "--child", scene]
             started = time.perf_counter()
             done = subprocess.run(command + (["--method", method] if method else []), env=env,
                                   capture_output=True, text=True)

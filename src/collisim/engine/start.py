@@ -1,0 +1,86 @@
+"""Where the engine starts: a scene it cannot run is one clear line (ValueError) before any step.
+
+The model checks each value as it is given (core/checks.py); what needs the engine's own tables
+is checked here, once per scene, before anything is simulated or written: the method and the
+broad phase by name (their registries), and the initial state's overlaps by the narrow phase.
+Bodies that start inside each other, or inside a segment or the map, have no defined contact
+normal or order of events, so every method would silently do something different. Touching is
+allowed (within a relative 1e-9, so bodies placed touching by arithmetic pass).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..broadphase import NAMES as BROAD_PHASES
+from ..core.kinds import CIRCLE
+from ..narrowphase.manifold import polygon_segment_manifold
+from ..narrowphase.statics import touching_segments
+from ..queries.contacts import contacts
+
+TOUCH_TOLERANCE = 1e-9   # relative to the contact distance
+
+
+def check_scene(scene, methods) -> None:
+    """ValueError for the first thing in scene (its panels and chapters included) that the
+    engine cannot run: a method not in `methods`, an unknown broad phase, bodies that overlap."""
+    for part in (*(panel.scene for panel in scene.panels), *scene.chapters):
+        check_scene(part, methods)
+    if scene.method not in methods:
+        raise ValueError(f"unknown method {scene.method!r}; choose one of: {', '.join(methods)}")
+    if scene.broadphase not in ("auto",) + BROAD_PHASES:
+        raise ValueError(f"unknown broad phase {scene.broadphase!r}; choose one of: auto, "
+                         f"{', '.join(BROAD_PHASES)}")
+    if scene.world is not None:
+        no_overlaps(scene.world)
+
+
+def no_overlaps(world) -> None:
+    """ValueError naming the first pair of bodies, or body and segment, that overlap."""
+    if world.n >= 2:
+        found = contacts(world)
+        pairs, depths = found["pairs"], found["depths"]
+        deep = np.flatnonzero(depths > world.radii[pairs].sum(axis=1) * TOUCH_TOLERANCE)
+        if deep.size:
+            i, j = pairs[deep[0]]
+            raise ValueError(f"bodies {i} and {j} overlap by {depths[deep[0]]:.3g} at the start; "
+                             f"place them apart or touching")
+    if len(world.segments):
+        pairs, depths = touching_segments(world.positions, world.radii, world.segments, world.box)
+        depths = _polygon_depths(world, pairs, depths)
+        deep = np.flatnonzero(depths > world.radii[pairs[:, 0]] * TOUCH_TOLERANCE)
+        if deep.size:
+            i, s = pairs[deep[0]]
+            raise ValueError(f"body {i} overlaps segment {s} by {depths[deep[0]]:.3g} at the start; "
+                             f"place it apart or touching")
+    if world.map is not None:
+        _outside_map(world)
+
+
+def _polygon_depths(world, pairs, depths):
+    """depths of (body, segment) pairs found by bounding circles, exact for polygon bodies."""
+    polygons = np.flatnonzero(world.shapes[pairs[:, 0]] != CIRCLE)
+    if polygons.size == 0:
+        return depths
+    depths, vertices = depths.copy(), world.placed_vertices()
+    for row in polygons:   # a start-up check, once per world: not a hot path
+        m = polygon_segment_manifold(vertices, world.vertex_start, pairs[row, 0], world.segments, pairs[row, 1], 0.0)
+        depths[row] = m[3] if m[2] > 0 else -1.0
+    return depths
+
+
+def _outside_map(world) -> None:
+    """ValueError naming the first body that starts inside the collision map's solid, or
+    overlapping its contour chains (which ccd collides with exactly)."""
+    depths = world.radii - world.map.distance(world.positions)
+    # the distance field is exact only to about a cell: its own tolerance is half a cell
+    deep = np.flatnonzero(depths > 0.5 * world.map.cell + world.radii * TOUCH_TOLERANCE)
+    if deep.size:
+        i = deep[0]
+        raise ValueError(f"body {i} at ({world.positions[i, 0]:g}, {world.positions[i, 1]:g}) starts inside the "
+                         f"collision map's solid; place it in free space")
+    pairs, depths = touching_segments(world.positions, world.radii, world.map.segments, world.box)
+    deep = np.flatnonzero(depths > world.radii[pairs[:, 0]] * TOUCH_TOLERANCE)
+    if deep.size:
+        i = pairs[deep[0], 0]
+        raise ValueError(f"body {i} overlaps the collision map's outline by {depths[deep[0]]:.3g} at the start; "
+                         f"place it in free space")
