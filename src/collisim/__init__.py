@@ -3,11 +3,10 @@
     scene file -> Scene -> World (bodies, statics) -> engine (discrete or ccd) -> Trajectory
                -> player (raster, overlays) -> writer (PyAV) -> renders/<scene>.mp4
 """
-from .core.compiling import name_entries_by_key, plain_constants, stamp_with_package
+from .core.compiling import compile_one_process_at_a_time, use_cache_folder
 
-plain_constants()      # before any kernel is typed: one compile per argument types (compiling.py)
-stamp_with_package()   # before any kernel is cached: a change to any source compiles them again
-name_entries_by_key()  # and processes compiling at once never mix up each other's entries
+use_cache_folder()                # before any kernel is defined: kept in a folder of these sources' own
+compile_one_process_at_a_time()   # and never saved there by two processes at once (core/compiling.py)
 
 from .engine import simulate, stream  # noqa: E402
 from .model import Events, Panel, RenderSettings, Scene, Trajectory, World, load_trajectory

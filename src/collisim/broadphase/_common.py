@@ -14,7 +14,7 @@ import numpy as np
 from numba import njit
 
 from ..core.arrays import grown
-from ..core.compiling import uncounted
+from ..core.compiling import kernel
 from ..core.checks import is_whole
 from ._rays import check_ray, sorted_hits
 
@@ -199,7 +199,7 @@ def reserve_pairs(pairs, count, more):
     return grown(pairs, count + more)
 
 
-@uncounted
+@kernel
 def put_pair(pairs, count, i, j):
     """Write the pair {i, j} as (min, max) into row `count` of `pairs`, which has room for it
     (reserve_pairs). Returns the new count."""

@@ -31,7 +31,7 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-from ..core.compiling import uncounted
+from ..core.compiling import kernel
 from ..core.geometry.segment import segment_meets_rect
 from ..statics.segment_index import build_segment_index, segments_near
 
@@ -145,7 +145,7 @@ def _register_segments(grid, segments, index, reach):
     return start, listed
 
 
-@uncounted
+@kernel
 def cell_bounds(grid, c):
     """(left, bottom, right, top) of cell c."""
     cx, cy = c % grid.nx, c // grid.nx
@@ -153,7 +153,7 @@ def cell_bounds(grid, c):
     return left, bottom, left + grid.cell_w, bottom + grid.cell_h
 
 
-@uncounted
+@kernel
 def cell_at(grid, x, y):
     """The cell holding point (x, y); points outside the box go to the nearest cell."""
     cx = min(max(int((x - grid.x0) // grid.cell_w), 0), grid.nx - 1)
@@ -161,13 +161,13 @@ def cell_at(grid, x, y):
     return cy * grid.nx + cx
 
 
-@uncounted
+@kernel
 def is_apart(grid, i):
     """Is body i one of the large bodies kept out of the cell lists? (Their reach is > 1.)"""
     return grid.reach[i] > 1
 
 
-@uncounted
+@kernel
 def segment_range(grid, i, m):
     """The segments body i may touch, of m: (first, last, every). Segment k for k in first ..
     last - 1 is k itself when `every` (a large body kept apart tests them all), else
@@ -178,7 +178,7 @@ def segment_range(grid, i, m):
     return grid.segment_start[c], grid.segment_start[c + 1], False
 
 
-@uncounted
+@kernel
 def move(grid, i, c):
     """Body i (in cell grid.cell[i] or none) now belongs to cell c."""
     if is_apart(grid, i):
@@ -189,7 +189,7 @@ def move(grid, i, c):
     link(grid, i, c)
 
 
-@uncounted
+@kernel
 def link(grid, i, c):
     """Put particle i (in no list) at the front of cell c's list."""
     first = grid.head[c]
@@ -200,7 +200,7 @@ def link(grid, i, c):
     grid.cell[i] = c
 
 
-@uncounted
+@kernel
 def unlink(grid, i):
     """Take particle i out of its cell's list."""
     before, after = grid.prev[i], grid.next[i]
@@ -213,7 +213,7 @@ def unlink(grid, i):
     grid.cell[i] = -1
 
 
-@uncounted
+@kernel
 def assign_all(grid, positions):
     """Rebuild every cell list from positions (n, 2), particles in index order."""
     grid.head[:] = -1
@@ -222,7 +222,7 @@ def assign_all(grid, positions):
         move(grid, i, cell_at(grid, positions[i, 0], positions[i, 1]))
 
 
-@uncounted
+@kernel
 def neighbour_block(grid, c):
     """The 3 × 3 block of cells around cell c (smaller at the box edges), as column and
     row ranges (cx_lo, cx_hi, cy_lo, cy_hi): its cells are cy * nx + cx for cy in
@@ -231,7 +231,7 @@ def neighbour_block(grid, c):
     return reach_block(grid, c, 1)
 
 
-@uncounted
+@kernel
 def reach_block(grid, c, reach):
     """The (2 reach + 1)² block of cells around cell c, as neighbour_block."""
     cx, cy = c % grid.nx, c // grid.nx

@@ -29,7 +29,7 @@ import numpy as np
 from numba import njit
 
 from ..core.arrays import grown
-from ..core.compiling import uncounted
+from ..core.compiling import kernel
 from ._common import boxes_overlap
 from .grid import cell_of
 
@@ -73,7 +73,7 @@ def home_scratch(nx: int, ny: int, n: int) -> tuple:
             np.empty((n, 2)), np.full(1, n // 8, np.intp))
 
 
-@uncounted
+@kernel
 def home_cell(lo, i, origin, per_unit, nx, ny):
     """The id of box i's home cell, the cell of its lower-left corner, in the padded numbering
     of home_grid_pairs: ix * (ny + 2) + iy + 1."""
@@ -115,7 +115,7 @@ def home_grid_pairs(lo, hi, origin, per_unit, nx, ny, count, start, ids, cell_lo
         ids[k] = i
         cell_lo[k, 0], cell_lo[k, 1], cell_hi[k, 0], cell_hi[k, 1] = lo[i, 0], lo[i, 1], hi[i, 0], hi[i, 1]
     # 4. The pairs, into a buffer grown between scans when a box's tests might overflow it.
-    pairs, found, a = np.empty((max(16, room[0]), 2), np.intp), np.intp(0), 0
+    pairs, found, a = np.empty((max(16, room[0]), 2), np.intp), np.intp(0), np.intp(0)
     while a < n:
         a, found = scan_cells(cell_lo, cell_hi, ids, start, count, a, n, column, origin, per_unit, nx, ny, pairs,
                               found)

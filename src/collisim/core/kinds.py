@@ -5,20 +5,25 @@ Event kinds label every collision (and every resting support, SUPPORT) in a Traj
 method found it; the event-driven method's queue numbers its bookkeeping events after the three
 kinds it predicts, WALL, PAIR and SEGMENT (engine/ccd/eventqueue.py).
 """
-CIRCLE, POLYGON = 0, 1
+import numpy as np
 
-WALL, PAIR, SEGMENT = 0, 1, 2
+# numpy integers, not Python ints: numba types a global Python int as its literal value, and a
+# kernel handed one compiles a copy per value (append(log, t, PAIR, ...) and append(log, t, WALL,
+# ...) would be two compiles of one function); a numpy integer is typed int64 whatever its value.
+CIRCLE, POLYGON = np.int64(0), np.int64(1)
+
+WALL, PAIR, SEGMENT = np.int64(0), np.int64(1), np.int64(2)
 # A collision with the collision map (statics/collision_map.py). Its `j` is the map segment
 # under ccd, which collides with the map's exact contour chains, and -1 under the discrete
 # method, which samples the map's distance field. The per-frame counts add these to the
 # segment collisions: both are level geometry.
-MAP = 3
+MAP = np.int64(3)
 # Not a collision: the push of a wall or segment that carries a body at rest (its weight), so
 # that a wall's pressure includes what it holds (analysis/metrics.py: wall_pressure). Logged at
 # least once a frame while the body rests; never counted with the collisions, never flashed.
 # Its `j` is the support: a wall side (< N_WALLS), or N_WALLS + the segment (under ccd the
 # collision map's chains are numbered after the scene's segments).
-SUPPORT = 4
+SUPPORT = np.int64(4)
 
 # A wall event's `j`: which side of the box (2·axis + side), in this order.
 WALL_SIDES = ("left", "right", "bottom", "top")

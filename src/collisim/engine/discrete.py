@@ -49,7 +49,8 @@ from .sleep_paths import carry, doze, keep_touching, remember_sleepers, still, w
 from .statics_paths import (circle_map_rows, circle_segment_rows, keep_start, map_number, mark_held, settle_in_map,
                             static_kind, statics_phase, statics_scratch)
 
-INTEGRATE, BROAD, NARROW, RESPONSE, STATICS, SETTLE, SLEEP, RECORD, TOTAL = range(9)
+# numpy integers: _lap(cycles, BROAD, t) compiles once, not once per phase (core/kinds.py says why)
+INTEGRATE, BROAD, NARROW, RESPONSE, STATICS, SETTLE, SLEEP, RECORD, TOTAL = np.arange(9, dtype=np.int64)
 ITERATIONS = 20   # sweeps of the contact solver per step (response/solver.py)
 
 Bodies = namedtuple("Bodies", ["shapes", "positions", "velocities", "angles", "angular_velocities",
@@ -278,7 +279,7 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
                                                                      (pairs, touching), phase_cycles, t)
         out.candidates[frame] = pairs.shape[0]
         if frame > 0 and still_since_record and still(sleep, n):
-            copy_rows(out.hierarchy[frame - 1], out.hierarchy[frame], 4)   # the same state as the frame before
+            copy_rows(out.hierarchy[frame - 1], out.hierarchy[frame], out.hierarchy.shape[1])   # the same state as the frame before
         else:
             record_levels(levels, b, pairs, vertices, touching, out.hierarchy[frame])
         still_since_record = still(sleep, n)

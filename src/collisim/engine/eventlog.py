@@ -4,7 +4,7 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-from ..core.compiling import uncounted
+from ..core.compiling import kernel
 from ..core.arrays import grown
 from ..model.trajectory import Events
 
@@ -34,13 +34,13 @@ def with_room(log, extra):
                     grown(log.j, need, used), grown(log.impulse, need, used), grown(log.point, need, used), log.size)
 
 
-@uncounted
+@kernel
 def has_room(log, extra):
     """Has the log room for `extra` more collisions?"""
     return log.size[0] + extra <= log.time.shape[0]
 
 
-@uncounted
+@kernel
 def append(log, t, kind, i, j, impulse, x, y):
     """Add a collision to a log that has room for it (see with_room)."""
     k = log.size[0]

@@ -37,7 +37,7 @@ from numba.extending import overload
 
 from ..broadphase import find_pairs
 from ..broadphase.step import candidate_pairs
-from ..core.compiling import uncounted
+from ..core.compiling import kernel
 from ..core.geometry.polygon import oriented_box, place_polygons, polygon_bounds
 from ..core.kinds import CIRCLE
 from ..model.trajectory import NOT_COUNTED
@@ -92,9 +92,7 @@ def body_volumes(shapes, positions, angles, radii, boxes, vertex_start, vertices
     return volumes
 
 
-# The tests are compiled without reference counting (compiling.uncounted): counted, a call cost
-# numba a reference count of every array it is handed, more than the test itself.
-@uncounted
+@kernel
 def _circles_overlap(shapes, positions, radii, i, j):
     if shapes[i] == CIRCLE and shapes[j] == CIRCLE:
         return circles_touch(positions, radii, i, j)     # the bounding circles are the shapes
@@ -104,20 +102,20 @@ def _circles_overlap(shapes, positions, radii, i, j):
     return dx * dx + dy * dy <= (ri + rj) * (ri + rj)
 
 
-@uncounted
+@kernel
 def _boxes_overlap(volumes, i, j):
     return (volumes[i, XMIN] <= volumes[j, XMAX] and volumes[j, XMIN] <= volumes[i, XMAX]
             and volumes[i, YMIN] <= volumes[j, YMAX] and volumes[j, YMIN] <= volumes[i, YMAX])
 
 
-@uncounted
+@kernel
 def _reach(volumes, i, lx, ly):
     """Half the width of body i's oriented box along the unit axis (lx, ly)."""
     ux, uy = volumes[i, UX], volumes[i, UY]
     return volumes[i, HALF_W] * abs(ux * lx + uy * ly) + volumes[i, HALF_H] * abs(ux * ly - uy * lx)
 
 
-@uncounted
+@kernel
 def _oriented_overlap(volumes, i, j):
     """Separating axes of two rectangles: their four side directions. Touching counts."""
     dx, dy = volumes[j, CX] - volumes[i, CX], volumes[j, CY] - volumes[i, CY]
@@ -142,7 +140,7 @@ def passes(level, shapes, positions, radii, vertices, start, volumes, i, j):
     return shapes_touch(shapes, positions, radii, vertices, start, i, j)
 
 
-@uncounted
+@kernel
 def _volume_level(shapes, positions, radii, volumes, i, j):
     """How many of the three bounding volumes pair (i, j) passes down the funnel, stopping at the
     first it fails. (The same tests as `passes`, written out: a call per level through `passes`
@@ -156,7 +154,7 @@ def _volume_level(shapes, positions, radii, volumes, i, j):
     return 3
 
 
-@uncounted
+@kernel
 def _level(shapes, positions, radii, vertices, start, volumes, i, j):
     """Pair (i, j)'s level: how many tests it passes down the funnel, stopping at the first it
     fails."""

@@ -32,7 +32,7 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-from ..core.compiling import uncounted
+from ..core.compiling import kernel
 from ..core.geometry.vector import length
 from ..core.kinds import CIRCLE, SUPPORT
 from ..narrowphase.manifold import body_pair_touch
@@ -66,7 +66,7 @@ def new_sleep(world, rest_speed=None) -> Sleep:
                  np.empty(m), np.empty((room, 5)), np.zeros(1, np.int64), np.zeros(1, np.int64))
 
 
-@uncounted
+@kernel
 def _root(parent, i):
     """The island of body i (union-find, with path halving)."""
     while parent[i] != i:
@@ -104,7 +104,7 @@ def _count_still(sleep, bodies, dt):
     return ready
 
 
-@uncounted
+@kernel
 def _carried(rows, r, parent, least):
     """Is row r the support of a body on a wall or segment, in an island that falls asleep?"""
     return rows.j[r] < 0 and rows.impulse[r] > 0.0 and least[_root(parent, rows.i[r])] >= SLEEP_TIME
@@ -148,11 +148,11 @@ def fall_asleep(sleep, bodies, rows, count, dt):
             sleep.sleeping[0] += 1
 
 
-@uncounted
+@kernel
 def all_still(sleep, n):
     """Does every one of the n bodies sleep, none of them since the last step's contacts were
-    found? (Nothing has moved since: the step has nothing to find, solve or count.) Uncounted
-    (compiling.py): called at every step, as cheap as the test it makes."""
+    found? (Nothing has moved since: the step has nothing to find, solve or count.) Called at
+    every step."""
     if n == 0 or sleep.sleeping[0] < n:
         return False
     for i in range(n):
@@ -221,7 +221,7 @@ def sleepers_touching(sleep, bodies, vertices, pairs, touching, prior_pairs, pri
         touching[c] = body_pair_touch(polygons, b.shapes, b.positions, b.radii, vertices, b.vertex_start, i, j)
 
 
-@uncounted
+@kernel
 def _sleeps(asleep, key, n, statics):
     """Do the bodies of warmstart.row_key's contact `key` sleep (a wall or segment always does)?
     (Handed one array, not the Sleep tuple: a call costs a reference count of every array.)"""

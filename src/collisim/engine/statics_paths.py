@@ -15,7 +15,7 @@ from numba.core import types
 from numba.extending import overload
 
 from ..core.arrays import copy_rows, grown
-from ..core.compiling import uncounted
+from ..core.compiling import kernel
 from ..core.geometry.box import centre_range
 from ..core.kinds import CIRCLE, MAP, N_WALLS, SEGMENT, WALL
 from ..narrowphase.statics import segment_contacts
@@ -30,6 +30,7 @@ from .eventlog import append, with_room
 # columns of statics_scratch's held (n, 5) after the two axes of the walls: held by a segment, by the
 # map, and touching a segment at the end of the step (the segment phase's contacts)
 HELD_BY_SEGMENT, HELD_BY_MAP, TOUCHES_SEGMENT = 2, 3, 4
+LOW_SIDE, HIGH_SIDE = np.int64(0), np.int64(1)   # a wall's side on its axis (numpy: one compile for both)
 
 
 def _lacks(statics_type, field: str) -> bool:
@@ -133,14 +134,14 @@ def _circle_segment_rows(bodies, statics, margin, in_pair, held, found, k, aslee
     return held_by_segments
 
 
-@uncounted
+@kernel
 def map_number(segments):
     """The collision map's number among the statics a contact row names (rows.wall): after the
     box walls and the segments (m, 4)."""
     return N_WALLS + segments.shape[0]
 
 
-@uncounted
+@kernel
 def static_kind(wall, the_map):
     """What a row's static number (rows.wall) names: WALL (a side), SEGMENT (N_WALLS + its
     number) or MAP (the_map, map_number's)."""
@@ -258,9 +259,9 @@ def statics_phase(bodies, statics, scratch, dt, log, now, frame_collisions):
             low_bounces, high_bounces, low_impulse, high_impulse = bounce_between_walls(
                 b.positions, b.velocities, b.accelerations, b.radii, b.masses, s.box, s.restitution, i, axis)
             if low_bounces > 0:
-                _log_wall(log, now, b.positions, s.box, i, axis, 0, low_impulse)
+                _log_wall(log, now, b.positions, s.box, i, axis, LOW_SIDE, low_impulse)
             if high_bounces > 0:
-                _log_wall(log, now, b.positions, s.box, i, axis, 1, high_impulse)
+                _log_wall(log, now, b.positions, s.box, i, axis, HIGH_SIDE, high_impulse)
             frame_collisions[WALL] += low_bounces + high_bounces
     return log
 

@@ -13,9 +13,7 @@ separation keeps the same closest features. Two polygons get theirs where they a
 (polygons.py: speculative_polygons): a vertex over a face from the separating-axis test itself,
 corner against corner from the closest points.
 
-pair_manifold and its helpers are compiled without reference counting (compiling.uncounted), as
-polygons.py's are (a counted call costs a reference count of each array it is handed); a
-polygon's vertices are sliced out only on the branch that needs them.
+A polygon's vertices are sliced out only on the branch that needs them.
 
 Bodies' shapes: shapes (n,) kinds; positions (n, 2); radii (n,) (a polygon's bounding radius);
 vertices (V, 2) the polygons' world vertices this step, body i's in vertices[start[i]:start[i+1]].
@@ -25,7 +23,7 @@ from numba import njit
 from numba.core import types
 from numba.extending import overload
 
-from ..core.compiling import uncounted
+from ..core.compiling import kernel
 from ..core.kinds import CIRCLE
 from .circles import circle_circle, circles_touch
 from .polygons import (box_wall_halfplane, placed_polygons_touch, polygon_circle, polygon_circle_touch,
@@ -51,7 +49,7 @@ def _flipped(m):
     return -nx, -ny, count, d0, px0, py0, d1, px1, py1
 
 
-@uncounted
+@kernel
 def _circles(positions, radii, i, j, margin):
     nx, ny, depth, _, _ = circle_circle(positions, radii, i, j)
     if depth <= -margin:
@@ -60,7 +58,7 @@ def _circles(positions, radii, i, j, margin):
     return nx, ny, 1, depth, positions[i, 0] + reach * nx, positions[i, 1] + reach * ny, 0.0, 0.0, 0.0
 
 
-@uncounted
+@kernel
 def _polygon_circle(a, cx, cy, r, margin):
     m = polygon_circle(a, cx, cy, r + margin)     # the circle grown by the margin
     if m[2] == 0:
@@ -68,13 +66,13 @@ def _polygon_circle(a, cx, cy, r, margin):
     return _given_back(m, margin)
 
 
-@uncounted
+@kernel
 def _polygons(a, b, margin):
     m = speculative_polygons(a, b, margin)   # touching, or closer than the margin: its manifold
     return m if m[2] > 0 else NONE
 
 
-@uncounted
+@kernel
 def pair_manifold(shapes, positions, radii, vertices, start, i, j, margin):
     """The manifold of bodies i and j (normal from i to j), with speculative points up to
     `margin` apart; count 0 if they are farther."""
@@ -88,7 +86,7 @@ def pair_manifold(shapes, positions, radii, vertices, start, i, j, margin):
     return _polygons(vertices[start[i]:start[i + 1]], vertices[start[j]:start[j + 1]], margin)
 
 
-@uncounted
+@kernel
 def shapes_touch(shapes, positions, radii, vertices, start, i, j):
     """Do the shapes of bodies i and j overlap or touch? (The exact test alone, no manifold.)"""
     if shapes[i] == CIRCLE and shapes[j] == CIRCLE:

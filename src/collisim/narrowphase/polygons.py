@@ -23,10 +23,8 @@ pairs as Box2D does (b2CollidePolygons, b2ClipPolygons): the reference face is t
 least penetration, the incident edge the other polygon's edge facing it, and the incident
 edge's ends, cut to the reference face's width, are the incident surface points.
 
-The helpers handed polygons are compiled without reference counting (compiling.uncounted):
-counted, a call cost numba a reference count of each array it is handed, about as much as the
-arithmetic for a pair in a pile. Inlined into their callers instead (numba's inline="always"),
-as they were, each caller typed and compiled them again.
+The helpers handed polygons are kernels (compiling.kernel) called, not inlined: inlined into
+their callers (numba's inline="always"), each caller typed and compiled them again.
 
 Separations are computed as cross products with the unnormalised edge (e × d) and divided by
 |e| once, so a vertex lying exactly on another polygon's edge line gives exactly 0 (touching).
@@ -36,7 +34,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ..core.compiling import uncounted
+from ..core.compiling import kernel
 from ..core.geometry.box import wall_geometry
 from ..core.geometry.segment import closest_on_segment
 from ..core.geometry.vector import length
@@ -60,7 +58,7 @@ def _behind(x, y, ox, oy, ex, ey):
     return ex * (y - oy) - ey * (x - ox)
 
 
-@uncounted
+@kernel
 def _max_separation(a, b):
     """The separating-axis test over a's edge normals: (separation, edge, deepest) — the
     largest over a's edges of how far b's deepest vertex lies in front of the edge (negative:
@@ -81,7 +79,7 @@ def _max_separation(a, b):
     return best, edge, deepest
 
 
-@uncounted
+@kernel
 def _separated(a, a0, a1, b, b0, b1):
     """Is there an edge of polygon a[a0:a1] with every vertex of b[b0:b1] strictly in front of it?
     Rows of whole arrays rather than slices: a slice costs numba a reference count, which for
@@ -153,7 +151,7 @@ def _corner(ax, ay, bx, by, distance):
     return nx, ny, 1, -distance, 0.5 * (ax + bx), 0.5 * (ay + by), 0.0, 0.0, 0.0
 
 
-@uncounted
+@kernel
 def _incident_edge(p, deepest, nx, ny):
     """Of the two edges of polygon p at its deepest vertex, the start of the one whose outward
     normal points most against (nx, ny): the face that meets the reference face."""
@@ -161,7 +159,7 @@ def _incident_edge(p, deepest, nx, ny):
     return before if _facing(p, before, nx, ny) < _facing(p, deepest, nx, ny) else deepest
 
 
-@uncounted
+@kernel
 def _facing(p, i, nx, ny):
     """The cosine between edge i's outward normal and (nx, ny)."""
     j = _next(i, p.shape[0])
@@ -186,7 +184,7 @@ def _clip_behind(px, py, qx, qy, tx, ty, ox, oy):
     return True, px, py, qx, qy
 
 
-@uncounted
+@kernel
 def _clip_to_face(ref, face, inc, edge):
     """The incident edge of polygon `inc` clipped to the width of reference face `face` of
     polygon `ref`: (kept, px, py, depth_p, qx, qy, depth_q), depths measured behind the face."""
@@ -244,7 +242,7 @@ def speculative_polygons(a, b, margin):
     return _polygons_manifold(a, b, margin, True, margin)
 
 
-@uncounted
+@kernel
 def _over_face(ref, face, p):
     """Does point p lie in front of reference face `face` of polygon ref, between its ends?"""
     r1 = _next(face, ref.shape[0])
@@ -253,7 +251,7 @@ def _over_face(ref, face, p):
     return 0.0 <= along <= ex * ex + ey * ey
 
 
-@uncounted
+@kernel
 def _polygons_manifold(a, b, beyond, speculative, reach):
     separation_a, face_a, deepest_b = _max_separation(a, b)
     separation_b, face_b, deepest_a = _max_separation(b, a)
@@ -298,13 +296,13 @@ def _polygons_manifold(a, b, beyond, speculative, reach):
     return _two_points(nx, ny, px, py, depth_p, qx, qy, depth_q, beyond if gap > 0.0 else reach)
 
 
-@uncounted
+@kernel
 def _edge_length(p, i):
     j = _next(i, p.shape[0])
     return length(p[j, 0] - p[i, 0], p[j, 1] - p[i, 1])
 
 
-@uncounted
+@kernel
 def _nearest_feature(a, cx, cy):
     """Where the point c meets convex polygon a: (signed distance, nx, ny) — the distance
     from a's surface (negative inside) and the outward unit normal there.

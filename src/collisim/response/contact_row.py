@@ -7,10 +7,10 @@ obliges the compiled code to read everything again (it cannot know that the arra
 overlap): twice the time. A call handed the Rows tuple itself (16 arrays) would cost about half
 a microsecond whatever it does.
 """
-from ..core.compiling import uncounted
+from ..core.compiling import kernel
 
 
-@uncounted
+@kernel
 def load(lin, ang, i, j):
     """Bodies i's and j's velocity and turning rate from per-body vectors, as one tuple
     (v_ix, v_iy, ω_i, v_jx, v_jy, ω_j); zeros for j < 0, a wall, which does not move."""
@@ -19,7 +19,7 @@ def load(lin, ang, i, j):
     return lin[i, 0], lin[i, 1], ang[i], 0.0, 0.0, 0.0
 
 
-@uncounted
+@kernel
 def load_mean(lin, ang, accelerations, dt, i, j):
     """As load, for the mean velocity of the step, lin + ½·a·dt (the solver's w): worked out for
     the rows' bodies alone, rather than as an (n, 2) array for every body at every step."""
@@ -30,7 +30,7 @@ def load_mean(lin, ang, accelerations, dt, i, j):
     return lin[i, 0] + half * accelerations[i, 0], lin[i, 1] + half * accelerations[i, 1], ang[i], 0.0, 0.0, 0.0
 
 
-@uncounted
+@kernel
 def zero_bodies(rows, count, lin, ang):
     """Per-body vectors (lin (n, 2), ang (n,)) set to 0 for the bodies of rows[:count] only: the
     solver reads and writes no other body's, so it need not clear all n at every step."""
@@ -40,7 +40,7 @@ def zero_bodies(rows, count, lin, ang):
             lin[rows.j[r], 0], lin[rows.j[r], 1], ang[rows.j[r]] = 0.0, 0.0, 0.0
 
 
-@uncounted
+@kernel
 def store(lin, ang, i, j, v):
     """Write back what load read."""
     lin[i, 0], lin[i, 1], ang[i] = v[0], v[1], v[2]
@@ -48,7 +48,7 @@ def store(lin, ang, i, j, v):
         lin[j, 0], lin[j, 1], ang[j] = v[3], v[4], v[5]
 
 
-@uncounted
+@kernel
 def inverses(inverse_masses, inverse_inertias, i, j):
     """(1/m_i, 1/I_i, 1/m_j, 1/I_j); a wall's are never used. Multiplying by an inverse is cheaper
     than dividing: a sweep would otherwise wait on a dozen divisions a row."""
@@ -57,7 +57,7 @@ def inverses(inverse_masses, inverse_inertias, i, j):
     return inverse_masses[i], inverse_inertias[i], 0.0, 0.0
 
 
-@uncounted
+@kernel
 def relative(v, j, dx, dy, lever_i, lever_j):
     """(v_j - v_i) along (dx, dy) at a contact point of bodies i and j (j < 0: a wall), for the
     pair's loaded vectors v (load). A point at arm a moves at v + ω × a, whose part along d is
@@ -68,7 +68,7 @@ def relative(v, j, dx, dy, lever_i, lever_j):
     return rel
 
 
-@uncounted
+@kernel
 def kicked(v, m, j, nx, ny, l0, l1, l2, l3, normal_impulse, tangent_impulse):
     """The pair's vectors v (load) changed by impulses along a row's normal (nx, ny) and tangent
     (-ny, nx), at its point (levers l0..l3 as Rows.lever): i pushed back, j on. m: inverses."""
@@ -80,7 +80,7 @@ def kicked(v, m, j, nx, ny, l0, l1, l2, l3, normal_impulse, tangent_impulse):
     return vix, viy, wi, v[3] + px * m[2], v[4] + py * m[2], v[5] + (normal_impulse * l2 + tangent_impulse * l3) * m[3]
 
 
-@uncounted
+@kernel
 def friction_kick(v, m, j, nx, ny, l0, l1, l2, l3, mass_t, limit, accumulated):
     """Coulomb friction at a row on the pair's vectors v: the tangential impulse that stops its
     sliding, with the row's accumulated friction impulse kept within ±limit. Returns (v, the new
@@ -90,7 +90,7 @@ def friction_kick(v, m, j, nx, ny, l0, l1, l2, l3, mass_t, limit, accumulated):
     return kicked(v, m, j, nx, ny, l0, l1, l2, l3, 0.0, total - accumulated), total
 
 
-@uncounted
+@kernel
 def meets(v, accelerations, i, j, nx, ny, lever_i, lever_j, gap, dt, rest_speed):
     """A row's closing speed if it meets within the step faster than the rest speed, else 0."""
     closing = relative(v, j, nx, ny, lever_i, lever_j)
@@ -103,7 +103,7 @@ def meets(v, accelerations, i, j, nx, ny, lever_i, lever_j, gap, dt, rest_speed)
     return closing
 
 
-@uncounted
+@kernel
 def coupling(m, j, lever_r_i, lever_s_i, lever_r_j, lever_s_j):
     """The normal velocity change at one point of a manifold per unit normal impulse at another
     (or the same) point, from their normal levers about each centre. m: inverses."""
@@ -113,7 +113,7 @@ def coupling(m, j, lever_r_i, lever_s_i, lever_r_j, lever_s_j):
     return k
 
 
-@uncounted
+@kernel
 def couplings(m, j, lr0, lr2, ls0, ls2):
     """k11, k22, k12 of the two points r and s of a manifold (same bodies and normal), from their
     normal levers (lr0, lr2) and (ls0, ls2)."""
@@ -123,7 +123,7 @@ def couplings(m, j, lr0, lr2, ls0, ls2):
     return k11, k22, k12
 
 
-@uncounted
+@kernel
 def block(k11, k22, k12, b1, b2):
     """The two points of a face on a face solved together, as Box2D's block solver does: the
     accumulated impulses x >= 0 that bring both closing speeds to their targets, or one of them
@@ -147,7 +147,7 @@ def block(k11, k22, k12, b1, b2):
     return found, x1, x2
 
 
-@uncounted
+@kernel
 def together(k11, k22, k12, u1, u2, restitution):
     """Both points of a two-point manifold meeting at closing speeds u1, u2: the impulses that give
     each -e times its closing speed at once. Returns (possible, j1, j2): not possible if that

@@ -37,7 +37,7 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-from ..core.compiling import uncounted
+from ..core.compiling import kernel
 from ..core.geometry.box import wall_geometry
 from ..core.geometry.toi import time_to_pair
 from ..core.geometry.vector import length
@@ -66,7 +66,7 @@ impulse (set by the solver); slop the overlap the row tolerates; arrives (k,) bo
 the solve completes, a perfectly inelastic contact with a static still apart (solver.collide)."""
 
 
-@uncounted
+@kernel
 def was_impact(rows, r):
     """Did row r meet as an impact this step (an impulse in hit, or an arrival: solver.collide)?
     Impacts are logged as collisions and kept out of the next step's warm start."""
@@ -90,13 +90,13 @@ def margins(velocities, angular_velocities, accelerations, radii, dt, out):
         out[i] = margin_of(velocities, angular_velocities, accelerations, radii, dt, i)
 
 
-@uncounted
+@kernel
 def margin_of(velocities, angular_velocities, accelerations, radii, dt, i):
     """Body i's speculative margin (margins)."""
     return max(min(_travel(velocities, angular_velocities, accelerations, radii, dt, i), radii[i]), MARGIN * radii[i])
 
 
-@uncounted
+@kernel
 def _travel(velocities, angular_velocities, accelerations, radii, dt, i):
     """How far any point of body i can move in a step of dt."""
     speed = length(velocities[i, 0], velocities[i, 1]) + abs(angular_velocities[i]) * radii[i]
@@ -118,7 +118,7 @@ def new_found(capacity):
     return np.empty((max(capacity, 1), FOUND))
 
 
-@uncounted
+@kernel
 def _record(found, k, i, j, wall, reach, slop, m):
     """Record k: manifold m of bodies i and j (or of body i and a static `wall`)."""
     record = found[k]
@@ -130,7 +130,7 @@ def _record(found, k, i, j, wall, reach, slop, m):
     return k + 1
 
 
-@uncounted
+@kernel
 def _reaches(m, reach):
     """Has manifold m a point closer than reach?"""
     return m[2] > 0 and -m[3] < reach
@@ -155,7 +155,7 @@ def _circles_at_contact(positions, velocities, radii, i, j, dt, m):
     return nx, ny, 1, -gap, x + radii[i] * nx, y + radii[i] * ny, 0.0, 0.0, 0.0
 
 
-@uncounted
+@kernel
 def _circles_apart(positions, radii, i, j, reach):
     """Are the bounding circles of bodies i and j farther apart than they can close (reach)?"""
     dx, dy = positions[j, 0] - positions[i, 0], positions[j, 1] - positions[i, 1]
@@ -264,7 +264,7 @@ def circle_map_manifold(bodies, margin, field, static, i, rest_speed, in_pair, f
     return _held_by_static(bodies, margin, i, nx, ny, d - bodies.radii[i], static, rest_speed, in_pair, found, k)
 
 
-@uncounted
+@kernel
 def _held_by_static(bodies, margin, i, nx, ny, gap, static, rest_speed, in_pair, found, k):
     """Record circle i's manifold with a static at `gap` along (nx, ny) (from the static to the
     centre) if the static holds it, by the rule of a circle and a wall (wall_manifolds): within
@@ -301,13 +301,13 @@ def segment_manifolds(bodies, vertices, margin, segments, found, k, polygons, as
     return k
 
 
-@uncounted
+@kernel
 def _levers(ax, ay, nx, ny):
     """A point's turning levers about a centre, from its arm (ax, ay): arm × n and arm × t."""
     return ax * ny - ay * nx, ax * nx + ay * ny
 
 
-@uncounted
+@kernel
 def _effective_mass(m_i, inertia_i, lever_i, m_j, inertia_j, lever_j, j):
     """1 / (the velocity change at a point along a direction per unit impulse along it)."""
     k = 1.0 / m_i + lever_i * lever_i / inertia_i

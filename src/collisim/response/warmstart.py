@@ -17,7 +17,7 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-from ..core.compiling import uncounted
+from ..core.compiling import kernel
 from ..core.kinds import N_WALLS
 from .rows import was_impact
 
@@ -40,7 +40,7 @@ def row_key(rows, r, n, statics=N_WALLS):
     return 2 * (rows.i[r] * (n + statics) + other) + rows.feature[r]
 
 
-@uncounted
+@kernel
 def key_bodies(key, n, statics=N_WALLS):
     """The contact row_key names: (i, other), other being body j, or n + the wall or segment."""
     return (key // 2) // (n + statics), (key // 2) % (n + statics)

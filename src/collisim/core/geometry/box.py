@@ -4,17 +4,17 @@ A circle of radius r touches the left wall when x - r = xmin, so its centre rang
 [xmin + r, xmax - r] on x (and likewise on y). Walls are numbered 2·axis + side, as in
 kinds.WALL_SIDES: 0 left, 1 right, 2 bottom, 3 top.
 """
-from ..compiling import uncounted
+from ..compiling import kernel
 
 
-@uncounted
+@kernel
 def centre_range(box, axis, radius):
     """(low, high): the centre coordinates on `axis` at which a circle of `radius` touches the
     low and the high wall. box: (4,) xmin, ymin, xmax, ymax."""
     return box[axis] + radius, box[axis + 2] - radius
 
 
-@uncounted
+@kernel
 def wall_geometry(box, wall, radius):
     """(axis, bound, inward) of a wall: the axis it stops, the centre coordinate of a circle
     touching it, and the sign of its inward normal."""
@@ -25,7 +25,7 @@ def wall_geometry(box, wall, radius):
     return axis, high, -1.0
 
 
-@uncounted
+@kernel
 def clamp_into_box(positions, radii, box):
     """Put every circle inside the box, positions only. positions: (n, 2); radii: (n,)."""
     for i in range(positions.shape[0]):

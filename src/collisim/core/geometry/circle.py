@@ -1,10 +1,10 @@
 """Two circles: the line of centres, along which they touch and push."""
 import math
 
-from ..compiling import uncounted
+from ..compiling import kernel
 
 
-@uncounted
+@kernel
 def line_of_centres(positions, i, j):
     """(nx, ny, distance): the unit normal from centre i to centre j and their distance.
     positions: (n, 2). Coincident centres have no line of centres: +x is picked, so the

@@ -8,10 +8,10 @@ circle's own distance test, geometry/circle.py, has always squared).
 """
 import math
 
-from ..compiling import uncounted
+from ..compiling import kernel
 
 
-@uncounted
+@kernel
 def length(x, y):
     """|(x, y)|."""
     return math.sqrt(x * x + y * y)

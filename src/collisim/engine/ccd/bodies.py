@@ -23,7 +23,7 @@ obstacle that gives it a velocity across its support.
 import math
 from collections import namedtuple
 
-from ...core.compiling import uncounted
+from ...core.compiling import kernel
 
 Bodies = namedtuple("Bodies", ["pos", "vel", "acc", "t_ref", "radius", "mass", "support", "wedge",
                                "support_normal", "counter", "horizon", "asleep", "last_hit", "slow_since",
@@ -50,7 +50,7 @@ FREE = -1
 REST_HEIGHT = 1e-9
 
 
-@uncounted
+@kernel
 def position_at(bodies, i, t):
     """(x, y) of particle i at time t."""
     dt = t - bodies.t_ref[i]
@@ -58,14 +58,14 @@ def position_at(bodies, i, t):
             bodies.pos[i, 1] + (bodies.vel[i, 1] + 0.5 * bodies.acc[i, 1] * dt) * dt)
 
 
-@uncounted
+@kernel
 def velocity_at(bodies, i, t):
     """(vx, vy) of particle i at time t."""
     dt = t - bodies.t_ref[i]
     return bodies.vel[i, 0] + bodies.acc[i, 0] * dt, bodies.vel[i, 1] + bodies.acc[i, 1] * dt
 
 
-@uncounted
+@kernel
 def advance(bodies, i, t):
     """Move particle i's reference time to t."""
     bodies.pos[i, 0], bodies.pos[i, 1] = position_at(bodies, i, t)
@@ -73,7 +73,7 @@ def advance(bodies, i, t):
     bodies.t_ref[i] = t
 
 
-@uncounted
+@kernel
 def comes_to_rest(env, radius, rebound_speed, nx, ny):
     """Should a particle leaving a support (normal n, pointing at the particle) at
     rebound_speed rest on it instead? Only if gravity presses it into the support
@@ -82,7 +82,7 @@ def comes_to_rest(env, radius, rebound_speed, nx, ny):
     return pressing > 0.0 and rebound_speed * rebound_speed <= 2.0 * pressing * REST_HEIGHT * radius
 
 
-@uncounted
+@kernel
 def rest_on(bodies, env, i, support, nx, ny):
     """Particle i (current) comes to rest on a support with unit normal n (pointing at
     it): no normal velocity, and the normal part of gravity is cancelled. If it already
@@ -108,21 +108,21 @@ def rest_on(bodies, env, i, support, nx, ny):
     bodies.support_normal[i, 0], bodies.support_normal[i, 1] = first_nx, first_ny
 
 
-@uncounted
+@kernel
 def rests_on(bodies, i, support):
     """Is particle i resting on this support (a wall index or N_WALLS + segment)?"""
     first, second = bodies.support[i], bodies.wedge[i]
     return first == support or second == support
 
 
-@uncounted
+@kernel
 def release(bodies, env, i):
     """Particle i (current) no longer rests on anything: full gravity again."""
     bodies.support[i] = bodies.wedge[i] = FREE
     bodies.acc[i, 0], bodies.acc[i, 1] = env.gravity[0], env.gravity[1]
 
 
-@uncounted
+@kernel
 def keep_or_release(bodies, env, i):
     """After a collision with an obstacle: particle i keeps resting on its support only
     if its velocity is still along it."""
@@ -133,14 +133,14 @@ def keep_or_release(bodies, env, i):
         release(bodies, env, i)
 
 
-@uncounted
+@kernel
 def fall_asleep(bodies, i):
     """Particle i (current) is frozen: no velocity, no acceleration, no events of its own."""
     bodies.vel[i, 0] = bodies.vel[i, 1] = bodies.acc[i, 0] = bodies.acc[i, 1] = 0.0
     bodies.asleep[i] = True
 
 
-@uncounted
+@kernel
 def wake(bodies, env, i):
     """Particle i (current, asleep) moves again: the acceleration of its resting state."""
     bodies.asleep[i] = False

@@ -34,7 +34,7 @@ import numpy as np
 from numba import njit
 
 from ...core.arrays import copy_rows
-from ...core.compiling import uncounted
+from ...core.compiling import kernel
 from ...broadphase.cells import reach_block, segment_range
 from ...core.geometry.box import wall_geometry
 from ...core.geometry.segment import segment_contact
@@ -47,7 +47,7 @@ from .support import log_impulses
 NONE = -1
 
 
-@uncounted
+@kernel
 def take_hits(supports, contacts):
     """Add to each sleeper's load the impulse of the contacts of this instant that hit it
     without waking it (resolve.py: the awake body's contact, j = -1, pushing it along n)."""
@@ -59,7 +59,7 @@ def take_hits(supports, contacts):
             supports.load[sleeper, 1] += contacts.impulse[k] * contacts.ny[k]
 
 
-@uncounted
+@kernel
 def _owe_weight(bodies, env, supports, i, t):
     """Add particle i's weight since it was last carried to its load."""
     duration = t - supports.since[i]
@@ -68,7 +68,7 @@ def _owe_weight(bodies, env, supports, i, t):
     supports.since[i] = t
 
 
-@uncounted
+@kernel
 def _enter(log, bodies, env, supports, i, t):
     """Particle i has fallen asleep: what its own supports gave it is logged up to t, and from
     t on its weight is carried as a load."""
@@ -76,7 +76,7 @@ def _enter(log, bodies, env, supports, i, t):
     supports.sleeping[i] = True
 
 
-@uncounted
+@kernel
 def _nearer(angle, support, nx, ny, side, best):
     """Keep the support nearest the load's direction on one side: side +1 for angles >= 0
     (the smallest), -1 for angles <= 0 (the largest). best = (angle, support, nx, ny)."""
@@ -85,7 +85,7 @@ def _nearer(angle, support, nx, ny, side, best):
     return best
 
 
-@uncounted
+@kernel
 def _fold(ux, uy, support, nx, ny, left, right):
     """Fold a support of normal n into the nearest on either side of direction u."""
     angle = math.atan2(ux * ny - uy * nx, ux * nx + uy * ny)
@@ -130,7 +130,7 @@ def _supports_of(bodies, grid, env, supports, i, ux, uy):
     return left, right
 
 
-@uncounted
+@kernel
 def _deliver(log, bodies, env, supports, i, t, support, nx, ny, push):
     """Support `support` pushes sleeper i along its normal n with impulse `push`: a wall or a
     segment logs it, a sleeping body takes the reaction into its load."""
@@ -184,13 +184,13 @@ def _split(log, bodies, env, supports, i, t, a, ax, ay, b, bx, by):
     _deliver(log, bodies, env, supports, i, t, b, bx, by, (ax * fy - ay * fx) / determinant)
 
 
-@uncounted
+@kernel
 def pass_on(log, bodies, grid, env, supports, i, t):
     """Split sleeper i's load between its supports (module docstring). The caller makes room
     for 2 events."""
     a, ax, ay, b, bx, by = _choose(bodies, grid, env, supports, i)
     _split(log, bodies, env, supports, i, t, a, ax, ay, b, bx, by)
-@uncounted
+@kernel
 def note_sleepers(log, bodies, grid, env, supports, particles, count, t):
     """After an event at t involving particles[:count]: those that fell asleep start being
     carried; those woken hand what they owe to their supports, the highest first (wake_up lists

@@ -21,7 +21,7 @@ import numpy as np
 from numba import njit
 
 from ...core.arrays import copy_rows
-from ...core.compiling import inlined, uncounted
+from ...core.compiling import inlined, kernel
 from ...core.kinds import SEGMENT
 
 assert SEGMENT < 3  # the bookkeeping kinds below sort after every collision kind
@@ -54,19 +54,19 @@ def _empty_queue(capacity, slot_of):
                       np.empty(capacity, np.int64), np.zeros(1, np.int64), slot_of)
 
 
-@uncounted
+@kernel
 def event_key(kind, i, j, base):
     """Pack (kind, i, j), each of i, j < base, into an integer ordered like the tuple."""
     return (kind * base + i) * base + j
 
 
-@uncounted
+@kernel
 def key_parts(key, base):
     """(kind, i, j) from event_key."""
     return key // (base * base), (key // base) % base, key % base
 
 
-@uncounted
+@kernel
 def is_current(queue, slot, counters, base):
     """Were the counters of the event's particles unchanged since it was predicted?"""
     kind, i, j = key_parts(queue.key[slot], base)
@@ -74,7 +74,7 @@ def is_current(queue, slot, counters, base):
     return count_i == counters[i] and (count_j < 0 or count_j == counters[j])
 
 
-@uncounted
+@kernel
 def _before(time_a, key_a, time_b, key_b):
     """Does event a come before event b? By time, ties by key."""
     return time_a < time_b or (time_a == time_b and key_a < key_b)
@@ -83,13 +83,13 @@ def _before(time_a, key_a, time_b, key_b):
 ARITY = 4   # children per node: a shallower heap, whose four children share a cache line or two
 
 
-@uncounted
+@kernel
 def _move(queue, source, target):
     """Copy the event in slot source to slot target."""
     _place(queue, target, queue.time[source], queue.key[source], queue.count_i[source], queue.count_j[source])
 
 
-@uncounted
+@kernel
 def _place(queue, slot, time, key, count_i, count_j):
     """Write an event into slot, noting where a body's own event now is."""
     queue.time[slot], queue.key[slot], queue.count_i[slot], queue.count_j[slot] = time, key, count_i, count_j
@@ -97,7 +97,7 @@ def _place(queue, slot, time, key, count_i, count_j):
         queue.slot_of[ONE_BODY - count_j] = slot
 
 
-@uncounted
+@kernel
 def _sift_up(queue, slot, time, key, count_i, count_j):
     """Put the event (time, key, count_i, count_j) into the hole at slot, moving it up: each
     parent it comes before moves down into the hole, and the event is written once."""
@@ -110,7 +110,7 @@ def _sift_up(queue, slot, time, key, count_i, count_j):
     _place(queue, slot, time, key, count_i, count_j)
 
 
-@uncounted
+@kernel
 def _sift_down(queue, slot, time, key, count_i, count_j):
     """Put the event into the hole at slot, moving it down past every earliest child that comes
     before it."""
@@ -130,7 +130,7 @@ def _sift_down(queue, slot, time, key, count_i, count_j):
     _place(queue, slot, time, key, count_i, count_j)
 
 
-@uncounted
+@kernel
 def push(queue, time, key, count_i, count_j):
     """Add an event; the caller has reserved room for it."""
     slot = queue.size[0]
@@ -200,7 +200,7 @@ def _hole_to_leaf(queue, size):
         slot = best
 
 
-@uncounted
+@kernel
 def clear(queue):
     """Empty the queue."""
     queue.size[0] = 0
@@ -208,7 +208,7 @@ def clear(queue):
         queue.slot_of[body] = -1
 
 
-@uncounted
+@kernel
 def has_room(queue, extra):
     """Has the queue room for `extra` more events?"""
     return queue.size[0] + extra <= queue.time.shape[0]

@@ -37,7 +37,7 @@ EventQueue, Contacts), and numba would count references to every array of every
 tuple handed to a function, twice a call, with atomic instructions: measured
 with perf (2026-11), that was over half of an event's time on the dense gas. So
 every function run at every event is compiled without numba's reference
-counting (compiling.uncounted): it may neither allocate nor return an array. Those handed the
+counting (compiling.kernel): it may neither allocate nor return an array. Those handed the
 state are inlined into the loop (compiling.inlined): a call hands numba's flattened tuples over
 as some two hundred arguments, which cost about a third of an event's time.
 A frame's events are processed by frame_events.py; when the log or the queue
@@ -54,7 +54,7 @@ import numpy as np
 from numba import njit
 
 from ...broadphase.cells import assign_all, make_grid
-from ...core.compiling import uncounted
+from ...core.compiling import kernel
 from ...core.geometry.box import clamp_into_box
 from ...core.kinds import N_WALLS, PAIR, SEGMENT, WALL
 from ..eventlog import new_log, with_room
@@ -115,7 +115,7 @@ def reschedule_growing(bodies, grid, env, queue, particles, count, t, t_end, bas
     return queue
 
 
-@uncounted
+@kernel
 def sample(bodies, t, positions, velocities):
     """Write every particle's state at time t into positions, velocities (n, 2)."""
     for i in range(bodies.radius.shape[0]):

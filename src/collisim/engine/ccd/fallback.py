@@ -32,7 +32,7 @@ of it skipped, as above, and the bodies colliding at t_last put to sleep.
 """
 import math
 
-from ...core.compiling import uncounted
+from ...core.compiling import kernel
 from ...broadphase.cells import reach_block
 from .bodies import advance, fall_asleep
 
@@ -43,14 +43,14 @@ FALLBACK_NOTE = ("with e < 1 and sleeping on, the bodies caught in the storm and
                  "energy exactly kept when e = 1; up to a frame of motion left out)")
 
 
-@uncounted
+@kernel
 def caught_in_storm(bodies, env, i, t_last):
     """Was body i caught in the storm that ran a frame over its budget: did it collide at the
     last event processed, t_last, where it may fall asleep (e < 1, sleeping on)?"""
     return env.restitution < 1.0 and env.rest_speed[i] > 0.0 and bodies.last_hit[i] == t_last
 
 
-@uncounted
+@kernel
 def skip_to_frame(bodies, env, t_last, t_frame):
     """Freeze every particle at its state at t_last (no event is pending before it) and
     make that its state at t_frame. With e < 1 and sleeping on, the bodies that collided at
@@ -63,7 +63,7 @@ def skip_to_frame(bodies, env, t_last, t_frame):
             fall_asleep(bodies, i)
 
 
-@uncounted
+@kernel
 def freeze_storm(bodies, grid, env, t_last, frozen, rest_speeds):
     """At a frame's budget, with sleeping on: the bodies that collided at t_last (the storm's)
     and every awake body in the block of cells around each fall asleep at t_last, and stay
@@ -90,7 +90,7 @@ def freeze_storm(bodies, grid, env, t_last, frozen, rest_speeds):
     return count
 
 
-@uncounted
+@kernel
 def _freeze(bodies, env, i, t, frozen, count, rest_speeds):
     advance(bodies, i, t)
     fall_asleep(bodies, i)
@@ -100,7 +100,7 @@ def _freeze(bodies, env, i, t, frozen, count, rest_speeds):
     return count + 1
 
 
-@uncounted
+@kernel
 def thaw(env, frozen, count, rest_speeds):
     """Give the bodies freeze_storm froze their rest speeds back (they may be woken again)."""
     for k in range(count):

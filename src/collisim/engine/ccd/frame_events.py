@@ -1,13 +1,12 @@
 """The events of one frame, in the order they happen: each taken from the queue, resolved, and
 its particles predicted again (events.py says how the whole method works).
 
-Everything here runs at every event, so it is compiled without numba's reference counting
-(compiling.uncounted) and allocates nothing. When the event log or the queue might run out of
+Everything here runs at every event, so it allocates nothing. When the event log or the queue might run out of
 room, frame_events stops where it is, says what it needs (NEED_LOG, NEED_QUEUE), and the caller
 (events.run) grows it and calls again: the event goes on from that point, so a frame is the
 same whatever the log's and the queue's sizes were.
 """
-from ...core.compiling import inlined, uncounted
+from ...core.compiling import inlined, kernel
 from ...core.geometry.circle import line_of_centres
 from ...core.kinds import PAIR, SEGMENT, WALL
 from ...broadphase.cells import move
@@ -32,7 +31,7 @@ STAGE, INVOLVED, STEP, PROCESSED, COLLISION, NEED = range(6)
 STATE_SIZE = 6
 
 
-@uncounted
+@kernel
 def frame_events(bodies, grid, env, queue, contacts, log, done, listed, involved, base, t_end, supports, tally,
                  resting, may_sleep, t_frame, budget, frame_counts, state, clock):
     """Process the events up to t_frame (events.run's loop), going on from `state` and `clock`
@@ -130,7 +129,7 @@ def reschedule(bodies, grid, env, queue, particles, count, t, t_end, base, done,
     return count
 
 
-@uncounted
+@kernel
 def _involve(bodies, i, t, involved, count, listed):
     """Add particle i to the involved particles (once), brought to time t. Returns the
     new count."""
@@ -178,7 +177,7 @@ def collect_collisions(bodies, grid, env, queue, contacts, t, key, base, involve
     return count
 
 
-@uncounted
+@kernel
 def _wake_if_hit_hard(bodies, grid, env, i, j, t, involved, count, listed):
     """A pair (current) where one sleeps (the caller checks): a hit faster than the sleeper's rest speed
     wakes it (and what rests on it, sleep.py). Returns the new count of involved particles."""
@@ -190,11 +189,11 @@ def _wake_if_hit_hard(bodies, grid, env, i, j, t, involved, count, listed):
     return count
 
 
-@uncounted
+@kernel
 def record_contacts(log, contacts, t, frame_counts, tally):
     """Log the contacts that delivered an impulse and count them by kind (a pair as i < j);
     count every contact processed in tally (EventLoop.tally). The caller makes room in the log
-    (with_room): compiled without reference counting, this function may not allocate."""
+    (with_room): run at every event, this function allocates nothing."""
     for k in range(contacts.count[0]):
         tally[contacts.kind[k]] += 1
         if contacts.impulse[k] > 0.0:
@@ -205,7 +204,7 @@ def record_contacts(log, contacts, t, frame_counts, tally):
             frame_counts[contacts.kind[k]] += 1
 
 
-@uncounted
+@kernel
 def apply_bookkeeping(bodies, grid, env, kind, i, j, t):
     """A cell crossing (move i to the next cell in direction j) or a slide off a segment's end."""
     advance(bodies, i, t)

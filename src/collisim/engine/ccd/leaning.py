@@ -11,7 +11,7 @@ in place.
 """
 import math
 
-from ...core.compiling import uncounted
+from ...core.compiling import kernel
 from ...core.geometry.box import wall_geometry
 from ...core.geometry.segment import segment_contact
 from ...core.kinds import N_WALLS
@@ -28,7 +28,7 @@ LEANS = 0.25
 UPRIGHT = 1e-9
 
 
-@uncounted
+@kernel
 def held_up(bodies, grid, env, i, t):
     """Does anything that could hold particle i up touch it at time t (within SLEEP_GAP of its
     radius): a wall or segment that gravity presses it into, or a body whose centre is lower
@@ -49,7 +49,7 @@ def held_up(bodies, grid, env, i, t):
     return leans_on_a_body(bodies, grid, env, i, t)
 
 
-@uncounted
+@kernel
 def leans_on_a_body(bodies, grid, env, i, t):
     """Does particle i at time t touch a body (asleep or not, within SLEEP_GAP) whose centre is
     lower than its own, one it could lean on? A body touching only neighbours at or above its
@@ -69,21 +69,21 @@ def leans_on_a_body(bodies, grid, env, i, t):
     return False
 
 
-@uncounted
+@kernel
 def _below(bodies, env, i, j, x, y, t):
     """Does body j touch i (at x, y) with its centre lower than i's?"""
     xj, yj = position_at(bodies, j, t)
     return touching(bodies, i, j, x, y, xj, yj) and (xj - x) * env.gravity[0] + (yj - y) * env.gravity[1] > 0.0
 
 
-@uncounted
+@kernel
 def touching(bodies, i, j, x, y, xj, yj):
     """Does body j (at xj, yj) touch particle i (at x, y), to within SLEEP_GAP of the smaller radius?"""
     gap = math.hypot(x - xj, y - yj) - bodies.radius[i] - bodies.radius[j]
     return gap <= SLEEP_GAP * min(bodies.radius[i], bodies.radius[j])
 
 
-@uncounted
+@kernel
 def yields(bodies, grid, env, i, t):
     """Is particle i at time t in a contact that gives way sideways: an awake body leans on it
     from above, off the vertical, and i is free to move aside; or i leans so on an awake body
@@ -110,7 +110,7 @@ def yields(bodies, grid, env, i, t):
     return False
 
 
-@uncounted
+@kernel
 def _gives_way(bodies, grid, env, i, j, x, y, t, ux, uy):
     """Do awake bodies i (at x, y) and j touch, the upper one leaning on the lower off the
     vertical (up: ux, uy), towards a side where the lower one is free to go?"""
@@ -128,7 +128,7 @@ def _gives_way(bodies, grid, env, i, j, x, y, t, ux, uy):
         free_towards(bodies, grid, env, lower, px, py, sx, sy, t)
 
 
-@uncounted
+@kernel
 def free_towards(bodies, grid, env, i, x, y, dx, dy, t):
     """Could particle i (at x, y at time t) slide along (dx, dy)? Not if anything it touches
     (within SLEEP_GAP of its radius) is in the way: a wall, a segment or a body on that side."""
@@ -158,7 +158,7 @@ def free_towards(bodies, grid, env, i, x, y, dx, dy, t):
     return True
 
 
-@uncounted
+@kernel
 def _in_the_way(bodies, i, j, x, y, dx, dy, t):
     """Does body j touch i (at x, y) on the side of (dx, dy)?"""
     xj, yj = position_at(bodies, j, t)

@@ -14,7 +14,7 @@ bodies kept out of the cell lists (broadphase/cells.py) are tested from both
 sides: i tests each of them whose reach covers its cell, and a large body
 tests the block of cells its reach covers.
 """
-from ...core.compiling import inlined, uncounted
+from ...core.compiling import inlined, kernel
 from ...core.geometry.box import wall_geometry
 from ...core.geometry.toi import time_to_point, time_to_segment, time_to_wall
 from ...core.kinds import N_WALLS, PAIR, SEGMENT, WALL
@@ -23,7 +23,7 @@ from .eventqueue import CELL, SLIDE_OFF, event_key, push
 from ...broadphase.cells import cell_bounds, is_apart, reach_block
 
 
-@uncounted
+@kernel
 def _earlier(t, kind, j, best_t, best_kind, best_j):
     """The earlier of two candidate events (t, kind, j); ties go to (kind, j).
     A candidate with j = -1 is "nothing found"."""
@@ -68,7 +68,7 @@ def next_wall_hit(bodies, env, i, t_max):
     return best_t, best_wall
 
 
-@uncounted
+@kernel
 def next_segment_hit(bodies, segments, listed, first, last, every, i, t_max):
     """(t, segment) of particle i's next impact with a segment near its cell: the segments
     listed[first:last] (the grid's lists, broadphase/cells.py), or segments first .. last - 1
@@ -87,7 +87,7 @@ def next_segment_hit(bodies, segments, listed, first, last, every, i, t_max):
     return best_t, best_segment
 
 
-@uncounted
+@kernel
 def slide_off_time(bodies, segments, i, t_max):
     """When particle i, resting (not wedged) on a segment, slides past one of its end points:
     its coordinate along the segment leaves [0, length] (two 1D walls)."""

@@ -58,7 +58,7 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-from ...core.compiling import uncounted
+from ...core.compiling import kernel
 from ...core.geometry.box import wall_geometry
 from ...core.geometry.circle import line_of_centres
 from ...core.geometry.segment import segment_contact
@@ -112,7 +112,7 @@ def new_contacts(capacity):
                     np.empty(capacity, np.bool_), np.zeros(1, np.int64))
 
 
-@uncounted
+@kernel
 def _rebound_speed(env, approach, pressing, radius, can_rest, restitution):
     """The separation speed a contact should have after the collision (module docstring)."""
     if can_rest:
@@ -125,7 +125,7 @@ def _rebound_speed(env, approach, pressing, radius, can_rest, restitution):
     return rebound
 
 
-@uncounted
+@kernel
 def _add(bodies, env, contacts, kind, i, j, other, nx, ny, x, y, can_rest):
     """Append a contact of particle i (current, with its acceleration before the contact)."""
     k = contacts.count[0]
@@ -156,7 +156,7 @@ def _add(bodies, env, contacts, kind, i, j, other, nx, ny, x, y, can_rest):
     contacts.count[0] = k + 1
 
 
-@uncounted
+@kernel
 def add_wall_contact(bodies, env, contacts, i, wall):
     """Particle i (current) touches box wall `wall`; it is put exactly on the wall."""
     radius = bodies.radius[i]
@@ -167,7 +167,7 @@ def add_wall_contact(bodies, env, contacts, i, wall):
     _add(bodies, env, contacts, WALL, i, -1, wall, nx, ny, x, y, True)
 
 
-@uncounted
+@kernel
 def add_segment_contact(bodies, env, contacts, i, s):
     """Particle i (current) touches segment s; it is put exactly at contact distance."""
     nx, ny, _, qx, qy, u = segment_contact(bodies.pos[i, 0], bodies.pos[i, 1], env.segments[s])
@@ -176,7 +176,7 @@ def add_segment_contact(bodies, env, contacts, i, s):
     _add(bodies, env, contacts, SEGMENT, i, -1, s, -nx, -ny, qx, qy, 0.0 < u < 1.0)
 
 
-@uncounted
+@kernel
 def add_pair_contact(bodies, env, contacts, i, j):
     """Particles i and j (current) touch. One asleep (sleep.py) is a fixed obstacle for the
     other: the contact is the awake one's, with j = -1 and `other` the sleeper."""
@@ -188,7 +188,7 @@ def add_pair_contact(bodies, env, contacts, i, j):
          bodies.pos[i, 1] + radius * ny, False)
 
 
-@uncounted
+@kernel
 def mark_hits(bodies, contacts, t):
     """Remember t as the last collision of every body a contact of this instant pushed."""
     for k in range(contacts.count[0]):
@@ -201,7 +201,7 @@ def mark_hits(bodies, contacts, t):
                 bodies.last_pair_hit[contacts.j[k]] = t
 
 
-@uncounted
+@kernel
 def _apply(bodies, contacts, k, change):
     """Add `change` to contact k's impulse, updating the velocities."""
     i, j = contacts.i[k], contacts.j[k]
@@ -215,7 +215,7 @@ def _apply(bodies, contacts, k, change):
     contacts.impulse[k] += change
 
 
-@uncounted
+@kernel
 def solve_contacts(bodies, contacts):
     """Impulses for all contacts at once (projected Gauss-Seidel, see module docstring)."""
     count = contacts.count[0]
@@ -243,7 +243,7 @@ def solve_contacts(bodies, contacts):
             return
 
 
-@uncounted
+@kernel
 def settle_resting(bodies, env, contacts):
     """After a collision with an obstacle, a resting particle may leave its support; and a
     particle that leaves a wall or segment too slowly to matter rests on it instead."""

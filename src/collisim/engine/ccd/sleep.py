@@ -61,7 +61,7 @@ storm and lets the rest of the frame go on (fallback.py), so that those above se
 """
 import math
 
-from ...core.compiling import uncounted
+from ...core.compiling import kernel
 from ...core.geometry.box import wall_geometry
 from ...core.geometry.segment import segment_contact
 from ...core.kinds import N_WALLS, PAIR, WALL
@@ -78,7 +78,7 @@ SLOW_SPEEDS = 4.0
 SLOW_SPEEDS_GIVING_WAY = 40.0
 
 
-@uncounted
+@kernel
 def _widen(ux, uy, nx, ny, right, left):
     """Fold a support normal n into the two normals nearest the up direction u on each side:
     right (angle <= 0 from u, the largest) and left (angle >= 0, the smallest)."""
@@ -90,7 +90,7 @@ def _widen(ux, uy, nx, ny, right, left):
     return right, left
 
 
-@uncounted
+@kernel
 def cradled(bodies, grid, env, i, t, hitting):
     """Is particle i at time t held against gravity by the walls, segments and sleeping bodies
     it touches (to within SLEEP_GAP of its radius)? See the module docstring. hitting: i has
@@ -133,7 +133,7 @@ def cradled(bodies, grid, env, i, t, hitting):
     return right >= -UPRIGHT or left <= UPRIGHT or left - right < math.pi
 
 
-@uncounted
+@kernel
 def _sleep_on_what_it_hits(bodies, env, contacts, i):
     """Particle i (current, just collided) falls asleep. On each wall or segment it has just hit
     that gravity presses it into, it rests too: the support then carries its weight (support.py)
@@ -152,7 +152,7 @@ def _sleep_on_what_it_hits(bodies, env, contacts, i):
     fall_asleep(bodies, i)
 
 
-@uncounted
+@kernel
 def _support_of(bodies, i, j, x, y, ux, uy, right, left):
     """Fold sleeping body j into i's supports if it touches i (at x, y)."""
     dx, dy = x - bodies.pos[j, 0], y - bodies.pos[j, 1]
@@ -162,14 +162,14 @@ def _support_of(bodies, i, j, x, y, ux, uy, right, left):
     return right, left
 
 
-@uncounted
+@kernel
 def slow(bodies, env, i, t):
     """Is particle i (awake) moving slower than its rest speed at time t?"""
     vx, vy = velocity_at(bodies, i, t)
     return vx * vx + vy * vy < env.rest_speed[i] * env.rest_speed[i]
 
 
-@uncounted
+@kernel
 def doze(bodies, grid, env, contacts, particles, count, t):
     """Put to sleep those of particles[:count] (current at t, just collided) that are cradled
     and slow, or jammed: hit again at the same instant (last_hit == t, before this collision
@@ -181,7 +181,7 @@ def doze(bodies, grid, env, contacts, particles, count, t):
             _sleep_on_what_it_hits(bodies, env, contacts, i)
 
 
-@uncounted
+@kernel
 def doze_all(bodies, grid, env, t, fell):
     """At a frame time: put to sleep every slow body that is cradled, or that touches another
     body and has been slow at every frame time for SLOW_SPEEDS rest speeds' worth of gravity
@@ -207,7 +207,7 @@ def doze_all(bodies, grid, env, t, fell):
     return count
 
 
-@uncounted
+@kernel
 def wake_up(bodies, grid, env, k, t, involved, count, listed):
     """Wake sleeping body k (involved already) and every sleeping body resting on it, and on
     those, upwards (and on the bodies involved after k: they move too); each is added to
@@ -233,7 +233,7 @@ def wake_up(bodies, grid, env, k, t, involved, count, listed):
     return count
 
 
-@uncounted
+@kernel
 def _wake_if_on(bodies, env, below, j, t, ux, uy, involved, count, listed):
     """Wake j if it sleeps resting on `below` (touching it, above it); add it to involved."""
     if j == below or not bodies.asleep[j] or listed[j]:

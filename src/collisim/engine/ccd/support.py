@@ -18,7 +18,7 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-from ...core.compiling import uncounted
+from ...core.compiling import kernel
 from ...core.geometry.box import wall_geometry
 from ...core.geometry.segment import segment_contact
 from ...core.kinds import N_WALLS, SUPPORT
@@ -44,7 +44,7 @@ def new_supports(n):
                     np.zeros(3, np.int64))
 
 
-@uncounted
+@kernel
 def support_normal(bodies, env, i, support):
     """Unit normal (pointing at particle i, current) of a wall index or N_WALLS + segment."""
     if support < N_WALLS:
@@ -54,7 +54,7 @@ def support_normal(bodies, env, i, support):
     return nx, ny
 
 
-@uncounted
+@kernel
 def support_forces(bodies, env, i):
     """The normal forces (N1, N2) of particle i's support and wedge (0 where none)."""
     first, second = bodies.support[i], bodies.wedge[i]
@@ -73,7 +73,7 @@ def support_forces(bodies, env, i):
             m * max((-ax * gy + ay * gx) / determinant, 0.0))
 
 
-@uncounted
+@kernel
 def log_impulses(log, bodies, env, supports, i, t):
     """Log the impulse particle i's recorded supports gave it since `since`, up to t."""
     duration = t - supports.since[i]
@@ -88,12 +88,11 @@ def log_impulses(log, bodies, env, supports, i, t):
     supports.since[i] = t
 
 
-@uncounted
+@kernel
 def note_supports(log, bodies, env, supports, particles, count, t):
     """After an event at time t involving particles[:count] (current): log what their supports
     gave them up to t where their resting changed, and record the new supports. The caller makes
-    room for 2 count events in the log (with_room): this function is compiled without reference
-    counting (compiling.uncounted), so it may not allocate."""
+    room for 2 count events in the log (with_room): run at every event, it allocates nothing."""
     for k in range(count):
         i = particles[k]
         if supports.sleeping[i] or (bodies.support[i] == supports.support[i, 0]
