@@ -66,10 +66,10 @@ def _simulate(scene: Scene, progress, max_events: int, storage: str):
     trajectory = recorder.trajectory()
     if cut and max_events > 0:
         warnings.warn(f"{scene.name}: only the first {max_events} collision events are kept in "
-                      f"Trajectory.events; the per-frame collision counts are complete", stacklevel=2)
+                      f"Trajectory.events; the per-frame collision counts are complete", stacklevel=3)
     if trajectory.approximate.any():
         warnings.warn(approximate_summary(trajectory.approximate.sum(), trajectory.frames, scene.name,
-                                          trajectory.warnings), stacklevel=2)
+                                          trajectory.warnings), stacklevel=3)
     return trajectory
 
 
