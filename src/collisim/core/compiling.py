@@ -1,14 +1,21 @@
 """How collisim's kernels compile, and where numba keeps them: numba as published.
 
-`kernel`: numba.njit(cache=True, error_model="numpy"), for the functions run at every contact or
-event: division by zero gives inf or nan as in NumPy, as everywhere in the engine, instead of
-raising (which would make every division a branch and an exception path).
+`kernel`: numba.njit(cache=True, error_model="numpy", _nrt=False), for the functions run at
+every contact or event, which allocate nothing and return no array. Division by zero gives inf
+or nan as in NumPy, as everywhere in the engine, instead of raising. `_nrt=False` compiles them
+without numba's runtime: numba counts a reference to every array a compiled function is handed,
+and to every array inside a namedtuple it is handed (the engine's state travels as namedtuples
+of arrays), with an atomic increment on entry and a decrement on return. Compiled with the
+runtime, ccd's event loop ran 6.5 times slower (docs/benchmarks.md). It is numba's own jit
+option, passed as any other; it is not in numba's reference pages, which is one reason numba is
+pinned to the release range tested (pyproject.toml). Without the runtime numba refuses to
+compile an allocation; a kernel must not return an array it was handed either (nobody would
+count that reference), which review keeps.
 
-`inlined`: a kernel that numba inlines into each compiled caller (inline="always"): for the
-event loop's functions that are handed the engine's state, several namedtuples of arrays. numba
-hands a namedtuple of arrays to a called function as its fields flattened into scalars and
-counts a reference to each array on the way in and out; inlined, the call and its counting are
-gone. Each such function is short and called from one or two places.
+`inlined`: a kernel that LLVM inlines into each compiled caller (numba's forceinline=True): for
+the event loop's functions that are handed the engine's state, several namedtuples of arrays,
+which a call hands over flattened into some two hundred scalar arguments. Each such function is
+short and called from one or two places.
 
 `use_cache_folder`: the compiled kernels are kept in a folder named by a digest of every one of
 collisim's sources. numba keys a cache entry to the one file that defines the function, yet a
@@ -46,13 +53,13 @@ PACKAGE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))   # collis
 
 
 def kernel(function):
-    """numba.njit(cache=True, error_model="numpy") (the module docstring)."""
-    return njit(cache=True, error_model="numpy")(function)
+    """numba.njit(cache=True, error_model="numpy", _nrt=False) (the module docstring)."""
+    return njit(cache=True, error_model="numpy", _nrt=False)(function)
 
 
 def inlined(function):
-    """A kernel inlined into every compiled caller (the module docstring)."""
-    return njit(cache=True, error_model="numpy", inline="always")(function)
+    """A kernel inlined by LLVM into every compiled caller (the module docstring)."""
+    return njit(cache=True, error_model="numpy", _nrt=False, forceinline=True)(function)
 
 
 @functools.lru_cache(maxsize=None)
