@@ -195,3 +195,45 @@ def test_two_bodies_reads_its_before_and_after_at_the_impact_and_they_conserve()
     momentum_before, momentum_after, energy_before, energy_after = \
         [tuple(map(float, re.findall(r"-?\d+\.\d+", part))) for part in re.split(r"\$\\to\$|energy", texts.pop())]
     assert momentum_before == momentum_after and energy_before == energy_after
+
+
+def test_raycast_missile_hits_a_particles_surface_with_its_normal_at_every_video_rate():
+    """The missile's ray covers every physics step whatever the video's rate (at -ql a drawn
+    frame is four steps: a ray of one step left three unchecked, and its next ray started inside
+    the particle it had passed, normal (0, 0)); each hit shown is on the particle's circle, at the
+    engine's recorded position, with the outward normal there."""
+    module = scene_module("raycast")
+    scene = module.scene()
+    trajectory = collisim.simulate(scene)
+    found = {}
+    for quality in ("l", "h"):
+        *_, last = played_scene(scene, quality)
+        found[quality] = last.memory["missile hits"]
+    assert found["l"].keys() == found["h"].keys() and len(found["l"]) >= 5
+    for launch, (when, point, normal, particle, inside) in found["l"].items():
+        assert found["h"][launch][:1] + found["h"][launch][3:] == (when, particle, inside)
+        centre = trajectory.positions[int(round(when * trajectory.fps)), particle]
+        assert np.hypot(*normal) == pytest.approx(1.0)
+        assert point - centre == pytest.approx(scene.world.radii[particle] * normal)
+
+
+def test_raycast_missile_starting_inside_a_particle_shows_its_nearest_surface_and_normal():
+    """A particle that moved onto the missile during a step: the query answers inside, normal
+    (0, 0); the scene keeps the particle's surface point nearest the missile and its outward
+    normal, and says the particle moved onto it."""
+    module = scene_module("raycast")
+    start_time, start, velocity = module.missile_path(0)
+    before_time, after_time = 0.1, 0.1 + 1 / 60
+    origin = start + velocity * before_time
+    centre = origin + np.array([0.1, -0.2])
+    world = collisim.World(positions=[centre], velocities=[[0.0, 0.0]], radii=0.5, box=module.BOX)
+
+    def frame(time):
+        return FrameState(time, 0, world.positions, world.velocities, world.angles, 0, 0, 0, 0, None, memory=memory)
+    memory = {}
+    assert module.missile_hits(world)(frame(before_time), frame(after_time)) == 1
+    when, point, normal, particle, inside = memory["missile hits"][0]
+    outward = (origin - centre) / np.hypot(*(origin - centre))
+    assert inside and particle == 0 and normal == pytest.approx(outward)
+    assert point == pytest.approx(centre + 0.5 * outward)
+    assert "moved onto it" in module.missile_status(frame(after_time), 1 / 60)
