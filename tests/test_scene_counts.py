@@ -69,7 +69,14 @@ def test_brute_force_says_it_tests_all_15_pairs_and_counts_the_engines_overlaps(
     assert walked == set(range(1, 16))      # every pair is shown being tested
 
 
+def x_overlaps(lo, hi):
+    """Pairs whose intervals on x overlap, counted here by brute force."""
+    return sum(lo[i, 0] <= hi[j, 0] and lo[j, 0] <= hi[i, 0] for i in range(len(lo)) for j in range(i + 1, len(lo)))
+
+
 def test_sweep_and_prune_reports_pairs_one_step_at_a_time_up_to_the_engines_count(six):
+    """As the video's sweep: every pair whose x intervals meet is reported, more than the two
+    whose boxes overlap (the narrow phase sorts them out)."""
     so_far, at_key = [], None
     for state, trajectory in played(six, 1):
         text = six.sweep_caption(state)
@@ -78,7 +85,8 @@ def test_sweep_and_prune_reports_pairs_one_step_at_a_time_up_to_the_engines_coun
         elif text:
             so_far.append(numbers(text)[-1])
             at_key = engine_candidates(state, trajectory)
-    assert so_far == sorted(so_far) and so_far[-1] == at_key == 2    # grows to the engine's count
+            assert at_key == x_overlaps(*six.boxes(state))
+    assert so_far == sorted(so_far) and so_far[-1] == at_key == 4    # grows to the engine's count
 
 
 def cells_touched(lo, hi, origin, size):
