@@ -5,6 +5,7 @@ import collisim
 from collisim import palette
 from collisim.gas import lattice_gas
 from collisim.render import raster
+from collisim.render.explain import Caption, Explainer
 
 BOX = (0.0, 0.0, 32.0, 18.0)
 SENSOR = np.array([16.0, 9.0])
@@ -78,10 +79,7 @@ class RaysOverlay:
         self.world, self.dt = world, 1.0 / fps
 
     def __call__(self, canvas, view, state):
-        world = self.world
-        directions = sensor_fan(state.time)
-        origins = np.repeat(SENSOR[None], RAYS, axis=0)
-        found = collisim.raycast_many(world, origins, directions, REACH, positions=state.positions)
+        origins, directions, found = sensor_rays(self.world, state)
         hit = np.isfinite(found.distance)
         ends = np.where(hit[:, None], found.points, origins + REACH * directions)
         raster.draw_lines(canvas, view, origins[~hit], ends[~hit], palette.DIM_TEXT, 1)
@@ -105,8 +103,36 @@ class RaysOverlay:
             position = start + velocity * (state.time - start_time)
             tail = start + velocity * max(state.time - self.dt - start_time, 0.0)   # from the wall, never behind it
             raster.draw_lines(canvas, view, [tail], [position], palette.FLASH, 3)
-        x, y = view.to_pixels([BOX[0], BOX[3]])
-        raster.draw_text(canvas, missile_status(state, self.dt), (x + 8, y + 20), scale=0.45, color_rgb=palette.TEXT)
+
+
+def sensor_rays(world, state):
+    """The sensor's rays at this sample: origins, directions and the query's RayHits, asked once
+    a sample (the overlay draws them, a caption counts them)."""
+    kept = state.memory.get("sensor")
+    if kept is None or kept[0] != state.sample:
+        directions = sensor_fan(state.time)
+        origins = np.repeat(SENSOR[None], RAYS, axis=0)
+        found = collisim.raycast_many(world, origins, directions, REACH, positions=state.positions)
+        kept = state.memory["sensor"] = (state.sample, origins, directions, found)
+    return kept[1:]
+
+
+def sensor_status(world):
+    """The query's own answers this frame: how many rays hit a particle or a wall, one hit's
+    point and normal, and how many particles the broad phase handed to the exact test."""
+    def text(state):
+        _, _, found = sensor_rays(world, state)
+        bodies = np.flatnonzero(found.kinds == found.KIND_NAMES.index("body"))
+        walls = int(np.sum(found.kinds == found.KIND_NAMES.index("wall")))
+        seen = f"sensor: of {RAYS} rays, {len(bodies)} hit a particle, {walls} a wall"
+        tests = f"exact tests: {int(found.tested.sum())} (every particle: {RAYS * world.n})"
+        if not len(bodies):
+            return f"{seen}; {tests}"
+        k = bodies[0]
+        point, normal = found.points[k], found.normals[k]
+        return (f"{seen}; ray {k + 1}: point ({point[0]:.2f}, {point[1]:.2f}), "
+                f"normal ({normal[0]:.2f}, {normal[1]:.2f}); {tests}")
+    return text
 
 
 def missile_status(state, dt: float) -> str:
@@ -122,8 +148,21 @@ def missile_status(state, dt: float) -> str:
     return f"missile {launch + 1}: hit particle {particle} at {where}"
 
 
+def explainer(world, fps) -> Explainer:
+    return Explainer([
+        Caption("a ray query returns the point it hits and the surface normal there, a unit vector",
+                0.0, None, "top"),
+        Caption(sensor_status(world), 0.0, None, "top", 1),
+        Caption(lambda state: missile_status(state, 1.0 / fps), 0.0, None, "bottom"),
+        Caption(lambda state: f"it moves {MISSILE_SPEED / fps:.2f} a step, more than a small particle's width "
+                              f"({2 * world.radii.min():.2f}): tested only where it lands it could jump one; "
+                              f"missiles that hit so far: {state.counters.get('missiles hit', 0)}", 0.0, None,
+                "bottom", 1),
+    ])
+
+
 def scene() -> collisim.Scene:
     world, fps = gas_world(), 60
-    settings = collisim.RenderSettings(overlay=RaysOverlay(world, fps), flash=False,
+    settings = collisim.RenderSettings(overlay=RaysOverlay(world, fps), flash=False, explainer=explainer(world, fps),
                                        counters={"missiles hit": missile_hits(world)})
     return collisim.Scene(world=world, fps=fps, seconds=9.0, method="discrete", render=settings)

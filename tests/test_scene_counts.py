@@ -245,3 +245,60 @@ def test_raycast_missile_starting_inside_a_particle_shows_its_nearest_surface_an
     assert inside and particle == 0 and normal == pytest.approx(outward)
     assert point == pytest.approx(centre + 0.5 * outward)
     assert "moved onto it" in module.missile_status(frame(after_time), 1 / 60)
+
+
+def test_polygons_captions_read_the_engines_funnel_on_every_frame():
+    module = scene_module("polygons")
+    scene = module.scene().with_options(seconds=2.0)
+    trajectory = collisim.simulate(scene)
+    n, shown = scene.world.n, 0
+    for state in played_scene(scene):
+        circles, boxes, oriented, touching = trajectory.hierarchy[state.sample]
+        assert numbers(module.funnel(n)(state)) == [n * (n - 1) // 2, circles, boxes, oriented, touching]
+        assert numbers(module.shape_tests(n)(state)) == [oriented, n * (n - 1) // 2]
+        shown += touching
+    assert shown > 0 and circles >= boxes >= oriented >= touching
+
+
+def test_collision_map_says_its_resolution_and_counts_the_engines_map_contacts():
+    import cv2
+    from collisim.model.kinds import MAP
+    module = scene_module("collision_map")
+    rows, cols = cv2.imread(str(module.LEVEL), cv2.IMREAD_GRAYSCALE).shape     # the image, read apart
+    table = module.level()
+    first = module.distance_field_notes(table).items
+    assert numbers(first[0].text)[:2] == [cols, rows]
+    assert f"cell {module.CELL:g} = radius / {module.RADIUS / module.CELL:.1f}" in first[1].text
+    scene = module.scene().with_options(seconds=1.5)
+    trajectory = collisim.simulate(scene.panels[0].scene)
+    for state in played_scene(scene):
+        assert numbers(module.map_contacts(state)) == [int(np.sum(trajectory.events.kind[
+            trajectory.events.time <= state.time + 1e-12] == MAP))]
+    assert numbers(module.map_contacts(state))[0] > 0
+
+
+def test_raycast_sensor_caption_counts_hits_as_brute_force_finds_them():
+    """Rays of particles hit, against every particle tested: the nearest circle each ray meets
+    within its reach, before the walls."""
+    module = scene_module("raycast")
+    scene = module.scene().with_options(seconds=0.5)
+    world = scene.world
+    for state in list(played_scene(scene))[::3]:
+        origins, directions, _ = module.sensor_rays(world, state)
+        exact = collisim.raycast_many(world, origins, directions, module.REACH, broadphase="brute",
+                                      positions=state.positions)
+        to_centres = state.positions[None] - origins[:, None]                     # (rays, n, 2)
+        along = np.einsum("rnk,rk->rn", to_centres, directions)
+        miss2 = np.einsum("rnk,rnk->rn", to_centres, to_centres) - along ** 2
+        entry = along - np.sqrt(np.maximum(world.radii ** 2 - miss2, 0.0))
+        meets = (miss2 <= world.radii ** 2) & (along > 0) & (entry <= module.REACH)
+        ahead = np.where(directions > 0, np.array(module.BOX[2:]), np.array(module.BOX[:2])) - origins
+        with np.errstate(divide="ignore", invalid="ignore"):
+            wall = np.where(directions != 0, ahead / directions, np.inf).min(axis=1)   # the wall it leaves by
+        first_body = np.where(meets, entry, np.inf).min(axis=1)
+        particles = int(np.sum(first_body <= np.minimum(wall, module.REACH)))
+        walls = int(np.sum((wall <= module.REACH) & (first_body > wall)))
+        found = numbers(module.sensor_status(world)(state))
+        assert found[:3] == [module.RAYS, particles, walls]
+        assert found[-1] == module.RAYS * world.n and found[-2] <= found[-1]
+        assert (exact.kinds == exact.KIND_NAMES.index("body")).sum() == particles
