@@ -302,3 +302,26 @@ def test_raycast_sensor_caption_counts_hits_as_brute_force_finds_them():
         assert found[:3] == [module.RAYS, particles, walls]
         assert found[-1] == module.RAYS * world.n and found[-2] <= found[-1]
         assert (exact.kinds == exact.KIND_NAMES.index("body")).sum() == particles
+
+
+def test_tunneling_remedies_slower_or_more_frames_miss_none_where_the_fast_run_misses():
+    """The video's easy remedies, counted on screen from the played samples and here from the
+    engine's own runs: the fast particles tunnel, slowed down or at eight times the frames a
+    second they do not."""
+    from collisim.render.player import make_players
+    module = scene_module("tunneling")
+    chapter_scene = module.scene().chapters[0]
+    job = collisim.pipeline.plan(module.scene(), quality="l")
+    players = make_players(job.chapters[0], job.size, job.fps)
+    for frame in range(job.chapters[0].frames):
+        for player in players:
+            player.advance(frame)
+    missed = []
+    for player, panel in zip(players, chapter_scene.panels):
+        trajectory = collisim.simulate(panel.scene)
+        frames = list(states(trajectory))[:player.state.sample + 1]
+        once = module.MissedOnce(module.barrier_crossings)
+        missed.append(sum(once(before, after) for before, after in zip(frames, frames[1:])))
+        assert player.state.counters["missed"] == missed[-1]
+    assert missed[0] > 0 and missed[1:] == [0, 0]
+    assert [panel.scene.fps for panel in chapter_scene.panels] == [60, 60, 60 * module.REMEDY]
