@@ -244,9 +244,9 @@ def _play(chapters, fps, frames, path, size, codec, quality, png_frame, transpar
         try:
             if png_frame is not None:
                 canvas = np.empty((size[1], size[0], 3), np.uint8)
-                for frame in range(png_frame + 1):  # walk the frames so trails, counts and chapters build up
-                    timeline.draw(canvas, frame)
-                    progress.step(png_frame + 1, path.name)
+                # simulated up to the frame, drawn alone (a panel whose overlay keeps memory replays
+                # its chapter's frames for it, drawing nothing but that overlay: the bar counts those)
+                timeline.draw_alone(canvas, png_frame, step=lambda done, total: progress.step(total, path.name))
                 write_png(path, canvas, background_bgr if transparent else None)
             else:
                 draw_seconds = 0.0
