@@ -74,7 +74,8 @@ def add_render_options(render) -> None:
     render.add_argument("--size", type=parse_size, help="frame size WxH (default: the scene's, by quality)")
     render.add_argument("-q", "--quality", choices=tuple(QUALITIES),
                         help="-ql 480p15, -qm 720p30, -qh 1080p60, -qk 2160p60: size, video fps and "
-                             "encoder quality (default: the scene's size and fps)")
+                             "encoder quality (default: the scene's size and fps); a scene whose lesson needs a "
+                             "higher rate keeps it (RenderSettings.min_fps) and says so")
     render.add_argument("--codec", choices=FORMATS["mp4"].codecs, help="mp4 only: h264 (default) or mp4v")
     render.add_argument("--transparent", action="store_true", help="background alpha 0 (webm, mov, png)")
     render.add_argument("--background", metavar="#RRGGBB", help="background colour")

@@ -25,7 +25,10 @@ class RenderSettings:
     `counters` maps a name to `count(before, after)`, called for every pair of consecutive
     samples (FrameState) the panel plays; the player keeps the running sum in
     state.counters[name], so an overlay can show a number that derives from the trajectory
-    (such as missed collisions) without simulating anything."""
+    (such as missed collisions) without simulating anything.
+    `min_fps`: the video frame rate what the scene teaches needs (frame_rate's 60 fps panel must
+    move more smoothly than its 15 fps one): a quality preset (-ql's 15 fps) lowers the size but
+    keeps at least this rate, and says so; an explicit fps is the user's."""
     size: tuple = QUALITY_SIZES["m"]
     trails: int = 0            # motion-trail length in frames; 0 draws none
     arrows: bool = False       # velocity arrows
@@ -37,6 +40,7 @@ class RenderSettings:
     counters: dict = field(default_factory=dict)
     explainer: Optional[object] = None   # render.explain.Explainer: captions, formulas, arrows, marks
     pace: Optional[object] = None        # render.pace.Pace: slow motion and freeze frames
+    min_fps: Optional[float] = None      # the lowest video frame rate the lesson survives
 
     def __post_init__(self):
         """Refuse, in one line, what the player could only fail on mid-render."""
@@ -54,6 +58,8 @@ class RenderSettings:
             raise ValueError(f"explainer must be an Explainer (collisim.render.explain), got {self.explainer!r}")
         if self.pace is not None and not hasattr(self.pace, "simulation_time"):
             raise ValueError(f"pace must be a Pace (collisim.render.pace), got {self.pace!r}")
+        if self.min_fps is not None:
+            self.min_fps = validate.number("min_fps", self.min_fps, positive=True)
 
 
 @dataclass
