@@ -96,7 +96,8 @@ def add_render_options(render) -> None:
     render.add_argument("--codec", choices=FORMATS["mp4"].codecs, help="mp4 only: h264 (default) or mp4v")
     render.add_argument("-t", "--transparent", action="store_true", help="background alpha 0 (webm, mov, png)")
     render.add_argument("--background", metavar="#RRGGBB", help="background colour")
-    render.add_argument("--theme", choices=tuple(THEMES), default="dark", help="colour theme (default dark)")
+    render.add_argument("--theme", choices=tuple(THEMES),
+                        help="colour theme (default: the one whose text reads on --background, else dark)")
     render.add_argument("-s", "--last-frame", action="store_true", help="write the last frame as PNG")
     render.add_argument("--png", type=int, metavar="FRAME", help="write frame FRAME as PNG instead of a video")
     render.add_argument("--no-limits", action="store_true",

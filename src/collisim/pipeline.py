@@ -64,6 +64,15 @@ def video_seconds(scene: Scene) -> float:
     return scene.seconds + (scene.render.pace.extra if scene.render.pace is not None else 0.0)
 
 
+def check_colors(scene: Scene) -> None:
+    """ValueError for a scene, panel or chapter whose RenderSettings.colors miss a body or have
+    one too many, before anything is simulated."""
+    if scene.world is not None:
+        scene.render.check_colors(scene.world.n)
+    for part in [panel.scene for panel in scene.panels] + list(scene.chapters):
+        check_colors(part)
+
+
 def lesson_fps(scene: Scene) -> float | None:
     """The highest RenderSettings.min_fps of a scene and its panels and chapters, or None."""
     parts = [panel.scene for panel in scene.panels] + list(scene.chapters)
@@ -116,6 +125,7 @@ def plan(source, size=None, *, fps=None, quality=None, settings: RenderSettings 
     if isinstance(source, Scene):
         if limits:
             check_steps(source)
+        check_colors(source)
         base, own_fps, name = source.render.size, source.fps, name or source.name
         rate = keep_lesson_rate(video_fps(own_fps, fps, quality), lesson_fps(source), fps, quality, name)
         chapters, frames = scene_chapters(source, rate), video_frames(video_seconds(source), rate)
@@ -124,6 +134,8 @@ def plan(source, size=None, *, fps=None, quality=None, settings: RenderSettings 
         if not panels or not all(isinstance(t, Trajectory) for _, t in panels):
             raise ValueError("render takes a Scene, a Trajectory, or a list of (title, Trajectory)")
         settings = settings or RenderSettings()
+        for _, trajectory in panels:
+            settings.check_colors(trajectory.world.n)
         if settings.arrows and any(t.storage == "positions" for _, t in panels):
             raise ValueError("velocity arrows need velocities, and this trajectory kept positions only "
                              "(simulate(..., storage='positions')): render it without arrows, or simulate "
@@ -151,7 +163,7 @@ class Output:
     transparent: bool
 
 
-def output_for(job: Plan, path, *, format=None, codec=None, transparent=False, background=None, theme="dark",
+def output_for(job: Plan, path, *, format=None, codec=None, transparent=False, background=None, theme=None,
                png_frame: int | None = None, last_frame: bool = False) -> Output:
     """The Output of a planned render to `path` (see render); ValueError for any mismatch. It
     writes nothing."""
@@ -171,7 +183,7 @@ def output_for(job: Plan, path, *, format=None, codec=None, transparent=False, b
 
 
 def render(source, path, size=None, *, fps=None, quality=None, format=None, codec=None, transparent=False,
-           background=None, theme="dark", png_frame: int | None = None, last_frame: bool = False,
+           background=None, theme=None, png_frame: int | None = None, last_frame: bool = False,
            limits: bool = True, settings: RenderSettings | None = None, progress=False,
            profile: dict | None = None) -> Path:
     """Render a Scene, a Trajectory, a list of (title, Trajectory), or a Plan from plan(), and
@@ -182,7 +194,8 @@ def render(source, path, size=None, *, fps=None, quality=None, format=None, code
     format='png' the folder of a PNG sequence. png_frame (or last_frame) writes that one frame
     as a PNG instead. quality: l, m, h, k (480p15, 720p30, 1080p60, 2160p60), also the encoder's
     quality; codec: h264 (default) or mp4v for mp4. transparent: background pixels get alpha 0
-    (webm, mov, png). background: '#RRGGBB' or RGB, else the theme's (dark, light).
+    (webm, mov, png). background: '#RRGGBB' or RGB, else the theme's; theme: dark or light, else
+    the one whose text reads on the background (light on white), else dark.
 
     The output appears only when complete. `settings` draws trajectories (a scene brings its
     own). Bad input raises ValueError before anything is simulated. `progress`: a bar on stderr

@@ -146,7 +146,9 @@ class PanelPlayer:
         # the circles' sizes and colours in pixels, once: they do not change (None: all are circles)
         circles = np.flatnonzero(self.world.shapes == CIRCLE)
         self._circles = None if len(circles) == self.world.n else circles
-        self._disc_style = raster.disc_style(self.view.length(self.world.radii[circles]), self.world.colors[circles])
+        self.settings.check_colors(self.world.n)
+        self.colors = self.world.colors if self.settings.colors is None else self.settings.colors
+        self._disc_style = raster.disc_style(self.view.length(self.world.radii[circles]), self.colors[circles])
 
     @property
     def profile(self) -> dict:
@@ -240,12 +242,12 @@ class PanelPlayer:
         inside, corner = raster.box_region(canvas, clip)
         line = max(2, int(round(2 * self.unit)))   # survives H.264 at -ql, and grows with the frame
         if settings.trails:
-            raster.draw_trails(inside, self.view, np.array(self._history), world.colors, line, corner)
+            raster.draw_trails(inside, self.view, np.array(self._history), self.colors, line, corner)
         positions = state.positions if self._circles is None else state.positions[self._circles]
         raster.draw_styled_circles(canvas, self.view.to_pixels(positions), self._disc_style)
         if self._circles is not None:
             outlines, bodies = raster.polygon_outlines(world, state.positions, state.angles)
-            raster.draw_polygons(canvas, [self.view.to_pixels(o) for o in outlines], world.colors[bodies])
+            raster.draw_polygons(canvas, [self.view.to_pixels(o) for o in outlines], self.colors[bodies])
         if settings.flash:
             self._draw_flashes(canvas, clip, state.time)
         if settings.arrows:
