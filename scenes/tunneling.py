@@ -42,14 +42,16 @@ class MissedOnce:
     """Counts each particle (or head-on pair) the first time a method misses its collision:
     a particle that has tunnelled keeps crossing the barrier every time it comes back, and
     counting those would measure its speed, not the method. Samples arrive in order (the
-    player visits every one), so remembering who missed is enough."""
+    player visits every one), so remembering who missed is enough. Who missed is kept in the
+    panel's memory, not here: every play of the scene (a video, then a still) starts afresh."""
 
     def __init__(self, crossed):
-        self.crossed, self.seen = crossed, set()
+        self.crossed = crossed
 
     def __call__(self, before, after):
-        new = set(np.flatnonzero(self.crossed(before, after)).tolist()) - self.seen
-        self.seen |= new
+        seen = after.memory.setdefault(("missed", id(self)), set())
+        new = set(np.flatnonzero(self.crossed(before, after)).tolist()) - seen
+        seen |= new
         return len(new)
 
 
