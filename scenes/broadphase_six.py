@@ -131,17 +131,14 @@ def sweep_caption(state):
     if not met:
         what = "meets no active interval: the active list restarts with it"
     else:
-        reported = [b for p in now for b in p if b != body]
-        apart = [j for j in met if j not in reported]
-        what = f"meets {names(met)} on {'xy'[info['axis']]}"
-        what += f"; boxes overlap: reported with {names(reported)}" if reported else ""
-        what += f"; its box misses {names(apart)}'s: not reported" if apart else ""
+        what = f"meets {names(met)} on {'xy'[info['axis']]}: {plural(len(met), 'possible collision')} reported"
     return f"{head} {what} ({plural(len(pairs), 'pair')} so far)"
 
 
 def sweep_intro(state):
     axis = "xy"[describe("sweep_prune", *boxes(state))["axis"]]
-    return f"sweep and prune: sort by the left end on {axis}, walk the list keeping the active intervals"
+    return (f"sweep and prune: sort by the left end on {axis}; each active interval "
+            f"the next one meets is a possible collision")
 
 
 def sweep_lanes(canvas, rect, view, state, unit):
@@ -297,8 +294,8 @@ def kd_figure(canvas, rect, view, state, unit):
 
 
 def kd_chapter():
-    items = [Caption("kd-tree: split at the median of the centres, on the axis they spread widest; "
-                     "repeat on each side", 0.0, None, "top"),
+    items = [Caption("kd-tree: split at the median of the centres; repeat on each side on the other axis "
+                     "(x, then y, then x, ...)", 0.0, None, "top"),
              Caption(kd_caption, 0.0, None, "top", 1),
              Caption("stop at one particle, or when no median split leaves both sides smaller "
                      "(straddlers go to both)", KD.end, None, "top", 2),
@@ -385,7 +382,7 @@ def narrow_caption(state):
 
 
 def narrow_figure(canvas, rect, view, state, unit):
-    pairs = describe("sweep_prune", *boxes(state))["pairs"]
+    pairs = describe("sweep_prune", *boxes(state))["pairs"]   # the panel's broad phase: its candidates
     draw.pair_lines(canvas, view, state.positions, pairs, palette.DIM_TEXT, draw.width(unit, 0.75))
     draw.pair_lines(canvas, view, state.positions, touching_now(state), palette.HIGHLIGHT, draw.width(unit, 2.0))
 
@@ -393,13 +390,14 @@ def narrow_figure(canvas, rect, view, state, unit):
 def narrow_panel():
     positions, velocities, radii = six_particles()
     world = collisim.World(positions=positions, velocities=velocities, radii=radii, box=BOX, colors=COLORS)
-    items = [Caption(r"then the narrow phase tests each candidate exactly: touching when "
+    items = [Caption(r"then the narrow phase tests each of sweep and prune's candidates exactly: touching when "
                      r"$|p_i - p_j| \leq r_i + r_j$", 0.0, None, "top"),
              Caption(narrow_caption, 0.0, None, "top", 1),
              Figure(narrow_figure, 0.0, None, "box")]
     settings = collisim.RenderSettings(hud=False, flash=True, pace=NARROW_PACE,
                                        explainer=Explainer(items, fade=0.0, lines=2))
-    return collisim.Panel(collisim.Scene(world=world, fps=60, seconds=6.0, render=settings), "the narrow phase")
+    scene = collisim.Scene(world=world, fps=60, seconds=6.0, broadphase="sweep_prune", render=settings)
+    return collisim.Panel(scene, "the narrow phase")
 
 
 def narrow_chapter():

@@ -75,4 +75,5 @@ def interpolation(seconds) -> collisim.Scene:
 
 def scene() -> collisim.Scene:
     seconds = 2 * TRAVEL_SECONDS * 2
-    return collisim.Scene(chapters=[side_by_side(seconds), interpolation(seconds)], fps=60, seconds=2 * seconds)
+    return collisim.Scene(chapters=[side_by_side(seconds), interpolation(seconds)], fps=60, seconds=2 * seconds,
+                          render=collisim.RenderSettings(min_fps=60))   # the lesson needs 60 fps video, even at -ql

@@ -3,7 +3,37 @@ the floor, under gravity, with some bounce and friction (the discrete method's c
 import numpy as np
 
 import collisim
+from collisim.render.explain import Caption, Explainer
 from collisim.shapes import box, regular
+
+
+def funnel(n: int):
+    """The slides' hierarchy on this frame, as the engine counted it (Trajectory.hierarchy)."""
+    def text(state):
+        if state.hierarchy is None or state.hierarchy[0] < 0:
+            return ""
+        circles, boxes, oriented, touching = (int(c) for c in state.hierarchy)
+        return (f"this frame, of {n * (n - 1) // 2} pairs: {circles} bounding circles overlap, {boxes} boxes, "
+                f"{oriented} oriented boxes, {touching} shapes touch")
+    return text
+
+
+def shape_tests(n: int):
+    def text(state):
+        if state.hierarchy is None or state.hierarchy[0] < 0:
+            return ""
+        return f"only {int(state.hierarchy[2])} of the {n * (n - 1) // 2} pairs get as far as the exact shape test"
+    return text
+
+
+def explainer(n: int) -> Explainer:
+    return Explainer([
+        Caption("polygons: the most accurate test, and the most expensive", 0.0, None, "top"),
+        Caption("so the cheap volumes go first: bounding circle, then box, then oriented box, then the shape",
+                0.0, None, "top", 1),
+        Caption(funnel(n), 0.0, None, "bottom"),
+        Caption(shape_tests(n), 0.0, None, "bottom", 1),
+    ])
 
 
 def scene() -> collisim.Scene:
@@ -20,4 +50,4 @@ def scene() -> collisim.Scene:
                            angular_velocities=rng.normal(0.0, 2.0, len(positions)), box=(0.0, 0.0, 17.6, 12.0),
                            gravity=(0.0, -9.81), restitution=0.3, friction=0.4)
     return collisim.Scene(world=world, fps=60, seconds=8.0, method="discrete", name="polygons",
-                          render=collisim.RenderSettings(flash=False))
+                          render=collisim.RenderSettings(flash=False, explainer=explainer(world.n)))

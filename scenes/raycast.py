@@ -5,6 +5,7 @@ import collisim
 from collisim import palette
 from collisim.gas import lattice_gas
 from collisim.render import raster
+from collisim.render.explain import Caption, Explainer
 
 BOX = (0.0, 0.0, 32.0, 18.0)
 SENSOR = np.array([16.0, 9.0])
@@ -37,20 +38,48 @@ def sensor_fan(time: float) -> np.ndarray:
     return np.column_stack([np.cos(angles), np.sin(angles)])
 
 
+def missile_hits(world):
+    """A counter (RenderSettings.counters) called for every physics step the panel plays,
+    whatever the video's frame rate: the missile casts the ray of the step that ended at
+    `after` (from where it was at `before`) against the particles where they are now, and the
+    first hit of each launch is kept in state.memory["missile hits"] as (time, point, normal,
+    particle, inside). A ray that starts inside a particle (the particle moved onto the
+    missile during the step) has no surface in front of it: the query says so (inside, normal
+    (0, 0)), and the hit kept is the particle's surface nearest the missile, with its outward
+    normal."""
+    def count(before, after):
+        launch = int(after.time // LAUNCH_EVERY)
+        start_time, start, velocity = missile_path(launch)
+        hits = after.memory.setdefault("missile hits", {})
+        if launch in hits or after.time <= start_time:
+            return 0
+        origin = start + velocity * max(before.time - start_time, 0.0)
+        step = velocity * (after.time - start_time) - (origin - start)
+        hit = collisim.raycast(world, origin, step, float(np.hypot(*step)), positions=after.positions)
+        if hit is None or hit.kind != "body":
+            return 0
+        point, normal = hit.point, hit.normal
+        if hit.inside:
+            centre, radius = after.positions[hit.index], world.radii[hit.index]
+            outward = origin - centre
+            normal = outward / np.hypot(*outward)
+            point = centre + radius * normal
+        hits[launch] = (after.time, point, normal, hit.index, hit.inside)
+        return 1
+    return count
+
+
 class RaysOverlay:
     """Draws the sensor's rays and the missile. Every ray is a query against the frame's
     recorded positions (collisim.raycast_many); nothing here moves a particle. The missile is
-    not a body: each frame it asks for the first particle on the segment it covers this frame,
-    so it cannot pass through one however fast it flies."""
+    not a body: each physics step it asks for the first particle on the segment it covers in
+    that step (missile_hits), so it cannot pass through one however fast it flies."""
 
     def __init__(self, world: collisim.World, fps: float):
         self.world, self.dt = world, 1.0 / fps
 
     def __call__(self, canvas, view, state):
-        world = self.world
-        directions = sensor_fan(state.time)
-        origins = np.repeat(SENSOR[None], RAYS, axis=0)
-        found = collisim.raycast_many(world, origins, directions, REACH, positions=state.positions)
+        origins, directions, found = sensor_rays(self.world, state)
         hit = np.isfinite(found.distance)
         ends = np.where(hit[:, None], found.points, origins + REACH * directions)
         raster.draw_lines(canvas, view, origins[~hit], ends[~hit], palette.DIM_TEXT, 1)
@@ -64,29 +93,76 @@ class RaysOverlay:
     def _missile(self, canvas, view, state):
         launch = int(state.time // LAUNCH_EVERY)
         start_time, start, velocity = missile_path(launch)
-        hits = state.memory.setdefault("missile hits", {})   # launch -> (time, point, normal) of its first hit
-        if launch not in hits and state.time > start_time:
-            # the ray of the step that ended now: from where the missile was one frame ago
-            before = start + velocity * max(state.time - self.dt - start_time, 0.0)
-            step = velocity * (state.time - start_time) - (before - start)
-            hit = collisim.raycast(self.world, before, step, float(np.hypot(*step)), positions=state.positions)
-            if hit is not None and hit.kind == "body":
-                hits[launch] = (state.time, hit.point, hit.normal)
+        hits = state.memory.get("missile hits", {})
         if launch in hits:
-            when, point, normal = hits[launch]
+            when, point, normal, particle, inside = hits[launch]
             age = state.time - when
             raster.draw_rings(canvas, view.to_pixels(point[None]), [4.0 + 40.0 * age], palette.FLASH, 2)
             raster.draw_lines(canvas, view, [point], [point + 1.5 * normal], palette.FLASH, 2)
-            label = f"missile {launch + 1}: hit at ({point[0]:.2f}, {point[1]:.2f}), normal ({normal[0]:.2f}, {normal[1]:.2f})"
         else:
             position = start + velocity * (state.time - start_time)
-            raster.draw_lines(canvas, view, [position - velocity * self.dt], [position], palette.FLASH, 3)
-            label = f"missile {launch + 1}: {MISSILE_SPEED * self.dt:.2f} units a frame, ray of one step ahead"
-        x, y = view.to_pixels([BOX[0], BOX[3]])
-        raster.draw_text(canvas, label, (x + 8, y + 20), scale=0.45, color_rgb=palette.TEXT)
+            tail = start + velocity * max(state.time - self.dt - start_time, 0.0)   # from the wall, never behind it
+            raster.draw_lines(canvas, view, [tail], [position], palette.FLASH, 3)
+
+
+def sensor_rays(world, state):
+    """The sensor's rays at this sample: origins, directions and the query's RayHits, asked once
+    a sample (the overlay draws them, a caption counts them)."""
+    kept = state.memory.get("sensor")
+    if kept is None or kept[0] != state.sample:
+        directions = sensor_fan(state.time)
+        origins = np.repeat(SENSOR[None], RAYS, axis=0)
+        found = collisim.raycast_many(world, origins, directions, REACH, positions=state.positions)
+        kept = state.memory["sensor"] = (state.sample, origins, directions, found)
+    return kept[1:]
+
+
+def sensor_status(world):
+    """The query's own answers this frame: how many rays hit a particle or a wall, one hit's
+    point and normal, and how many particles the broad phase handed to the exact test."""
+    def text(state):
+        _, _, found = sensor_rays(world, state)
+        bodies = np.flatnonzero(found.kinds == found.KIND_NAMES.index("body"))
+        walls = int(np.sum(found.kinds == found.KIND_NAMES.index("wall")))
+        seen = f"sensor: of {RAYS} rays, {len(bodies)} hit a particle, {walls} a wall"
+        tests = f"exact tests: {int(found.tested.sum())} (every particle: {RAYS * world.n})"
+        if not len(bodies):
+            return f"{seen}; {tests}"
+        k = bodies[0]
+        point, normal = found.points[k], found.normals[k]
+        return (f"{seen}; ray {k + 1}: point ({point[0]:.2f}, {point[1]:.2f}), "
+                f"normal ({normal[0]:.2f}, {normal[1]:.2f}); {tests}")
+    return text
+
+
+def missile_status(state, dt: float) -> str:
+    """What the current launch's missile has found so far, in the query's words."""
+    launch = int(state.time // LAUNCH_EVERY)
+    hits = state.memory.get("missile hits", {})
+    if launch not in hits:
+        return f"missile {launch + 1}: {MISSILE_SPEED * dt:.2f} units a step, a ray along each step"
+    _, point, normal, particle, inside = hits[launch]
+    where = f"({point[0]:.2f}, {point[1]:.2f}), normal ({normal[0]:.2f}, {normal[1]:.2f})"
+    if inside:
+        return f"missile {launch + 1}: particle {particle} moved onto it; nearest surface {where}"
+    return f"missile {launch + 1}: hit particle {particle} at {where}"
+
+
+def explainer(world, fps) -> Explainer:
+    return Explainer([
+        Caption("a ray query returns the point it hits and the surface normal there, a unit vector",
+                0.0, None, "top"),
+        Caption(sensor_status(world), 0.0, None, "top", 1),
+        Caption(lambda state: missile_status(state, 1.0 / fps), 0.0, None, "bottom"),
+        Caption(lambda state: f"it moves {MISSILE_SPEED / fps:.2f} a step, more than a small particle's width "
+                              f"({2 * world.radii.min():.2f}): tested only where it lands it could jump one; "
+                              f"missiles that hit so far: {state.counters.get('missiles hit', 0)}", 0.0, None,
+                "bottom", 1),
+    ])
 
 
 def scene() -> collisim.Scene:
     world, fps = gas_world(), 60
-    settings = collisim.RenderSettings(overlay=RaysOverlay(world, fps), flash=False)
+    settings = collisim.RenderSettings(overlay=RaysOverlay(world, fps), flash=False, explainer=explainer(world, fps),
+                                       counters={"missiles hit": missile_hits(world)})
     return collisim.Scene(world=world, fps=fps, seconds=9.0, method="discrete", render=settings)

@@ -13,7 +13,7 @@ def scene():
     explainer = Explainer([
         Caption(r"gravity: $v \leftarrow v + a\,\Delta t$ every step", 0, 2, "top"),
         Caption(r"bounce: $v_y \to -e\,v_y$", first_bounce, None, "bottom"),
-        Caption(lambda s: f"speed now {abs(s.velocities[0, 1]):.2f}", 0, None, "bottom", line=1),
+        Caption(lambda s: rf"vertical speed $|v_y|$ now {abs(s.velocities[0, 1]):.2f}", 0, None, "bottom", line=1),
         Mark((0,), 0, 2),                                         # numbers body 0 beside it
         Note("lowest point", lambda s: s.positions[0] - [0, 0.5], 0, 2, gap=0.5),
         Arrow(lambda s: s.positions[0], lambda s: s.positions[0] + 0.3 * s.velocities[0]),

@@ -1,4 +1,4 @@
-"""Tunnelling side by side: discrete at 1 and 4 substeps misses fast collisions, ccd never does; then how ccd finds t_c."""
+"""Tunnelling: the video's easy remedies first (slower particles, more frames), then side by side discrete at 1 and 4 substeps misses fast collisions, ccd never does; then how ccd finds t_c."""
 import numpy as np
 
 import collisim
@@ -17,11 +17,11 @@ METHODS = [("discrete", 1, "discrete, 1 step a frame"), ("discrete", 4, "discret
            ("ccd", 1, "continuous (ccd)")]
 
 
-def barrier_world():
+def barrier_world(speed=SPEED):
     """Fast particles in lanes against a thin wall at x = 5 spanning the box: any crossing is a miss."""
     lanes = np.array([1.0, 2.4, 3.8, 5.2])
     angles = np.array([0.05, -0.08, 0.11, -0.03])
-    velocities = SPEED * np.column_stack([np.cos(angles), np.sin(angles)]) * np.array([[1.0], [0.8], [0.9], [1.1]])
+    velocities = speed * np.column_stack([np.cos(angles), np.sin(angles)]) * np.array([[1.0], [0.8], [0.9], [1.1]])
     positions = np.column_stack([np.array([1.2, 2.0, 2.8, 3.6]), lanes])
     return collisim.World(positions=positions, velocities=velocities, radii=RADIUS, box=BOX,
                           segments=[[5.0, 0.0, 5.0, 6.0]], colors=[palette.pick(k) for k in range(4)])
@@ -42,14 +42,16 @@ class MissedOnce:
     """Counts each particle (or head-on pair) the first time a method misses its collision:
     a particle that has tunnelled keeps crossing the barrier every time it comes back, and
     counting those would measure its speed, not the method. Samples arrive in order (the
-    player visits every one), so remembering who missed is enough."""
+    player visits every one), so remembering who missed is enough. Who missed is kept in the
+    panel's memory, not here: every play of the scene (a video, then a still) starts afresh."""
 
     def __init__(self, crossed):
-        self.crossed, self.seen = crossed, set()
+        self.crossed = crossed
 
     def __call__(self, before, after):
-        new = set(np.flatnonzero(self.crossed(before, after)).tolist()) - self.seen
-        self.seen |= new
+        seen = after.memory.setdefault(("missed", id(self)), set())
+        new = set(np.flatnonzero(self.crossed(before, after)).tolist()) - seen
+        seen |= new
         return len(new)
 
 
@@ -86,6 +88,31 @@ def comparison_panels(seconds):
                                    substeps=substeps, broadphase="brute", render=settings)
             panels.append(collisim.Panel(scene, title))
     return panels
+
+
+# --- the video's two easy remedies, before ccd: slower particles, more frames --------------
+
+REMEDY = 8                      # slower by this factor, or this many times the frames a second: under a
+                                # radius a frame (the fastest lane 1.1 x 6 / 8), so no step lands past the barrier
+REMEDY_SECONDS = 1.5
+REMEDY_PACE = Pace(Slow(0.0, 1.0, 0.25))
+# (speed, frames a second, title): each moves 6, 0.75 and 0.75 radii a frame
+REMEDIES = [(SPEED, 60, "too fast: 6 radii a frame"),
+            (SPEED / REMEDY, 60, f"remedy 1, slower: {TRAVEL / REMEDY / RADIUS:g} radii a frame"),
+            (SPEED, 60 * REMEDY, f"remedy 2, more frames: {60 * REMEDY} a second")]
+
+
+def remedies_chapter():
+    """The video's first two solutions on the barrier, discrete, one step a frame: a slower
+    particle, or more frames a second, moves less than its diameter a frame and is caught."""
+    panels = []
+    for speed, fps, title in REMEDIES:
+        settings = collisim.RenderSettings(trails=6, explainer=counter("particles (barrier)"), pace=REMEDY_PACE,
+                                           counters={"missed": MissedOnce(barrier_crossings)})
+        scene = collisim.Scene(world=barrier_world(speed), fps=fps, seconds=REMEDY_SECONDS, method="discrete",
+                               broadphase="brute", render=settings)
+        panels.append(collisim.Panel(scene, title))
+    return collisim.Scene(panels=panels, fps=60, seconds=REMEDY_SECONDS)
 
 
 # --- the explanation: the straight path between two frames, t_c, the reflected path --------
@@ -160,6 +187,6 @@ def explanation(seconds=3.0):
 def scene() -> collisim.Scene:
     compare = collisim.Scene(panels=comparison_panels(SECONDS), fps=60, seconds=SECONDS,
                              render=collisim.RenderSettings(layout=(2, 3)))
-    explain = explanation()
-    return collisim.Scene(chapters=[compare, explain], fps=60,
-                          seconds=collisim.pipeline.video_seconds(compare) + collisim.pipeline.video_seconds(explain))
+    chapters = [remedies_chapter(), compare, explanation()]
+    return collisim.Scene(chapters=chapters, fps=60,
+                          seconds=sum(collisim.pipeline.video_seconds(c) for c in chapters))

@@ -236,6 +236,44 @@ def test_sweep_prune_keeps_up_across_frames():
             assert not sweep.stats["resorted"]
 
 
+def interval_pairs(lo, hi, axis):
+    """Every pair whose intervals on `axis` overlap (touching counts), by testing every pair."""
+    i, j = np.triu_indices(len(lo), k=1)
+    keep = (lo[i, axis] <= hi[j, axis]) & (lo[j, axis] <= hi[i, axis])
+    return np.stack((i[keep], j[keep]), axis=1).astype(np.intp)
+
+
+@pytest.mark.parametrize("axis", [0, 1])
+def test_sweep_prune_reports_every_overlap_on_its_axis_as_the_video_does(axis):
+    """Not only the pairs whose boxes overlap: every pair whose intervals meet on the sweep axis
+    (the axis of larger spread: the one stretched here), the other axis never looked at."""
+    lo, hi = gas(300, 60, seed=12)
+    stretch = np.where(np.arange(2) == axis, 3.0, 1.0)
+    lo, hi = lo * stretch, hi * stretch
+    sweep = make("sweep_prune")
+    pairs = sweep.pairs(lo, hi)
+    assert sweep.stats["axis"] == axis
+    np.testing.assert_array_equal(pairs, interval_pairs(lo, hi, axis))
+    assert len(pairs) > len(reference_pairs(lo, hi))     # more than the overlapping boxes
+
+
+def test_kdtree_alternates_its_split_axis_by_depth_as_the_video_does():
+    """x at the root, y below, x below that: each split on its depth's axis (for a gas where
+    every median split helps on that axis)."""
+    lo, hi = gas(300, 60, seed=13, radii=(0.01,))   # small: no box straddles a median
+    splits = describe("kdtree", lo, hi, leaf_size=2)["splits"]
+    assert {depth for *_, depth in splits} >= set(range(6))
+    assert [axis for axis, *_ in splits] == [depth % 2 for *_, depth in splits]
+
+
+def test_kdtree_splits_on_the_other_axis_when_its_depths_cannot_help():
+    """A column of boxes all straddling the median on x: the root splits on y, not one leaf of
+    every box."""
+    lo, hi = circles(np.column_stack([np.full(40, 5.0), np.arange(40.0) * 3]), 1.0)
+    picture = describe("kdtree", lo, hi, leaf_size=2)
+    assert picture["splits"][0][0] == 1 and max(len(leaf) for leaf in picture["leaves"]) <= 2
+
+
 # ---------------------------------------------------------------- describe
 
 SIX = circles([[1, 1], [2.2, 1.6], [5, 5], [5.6, 4], [8, 2], [8.4, 2.5]], 0.8)

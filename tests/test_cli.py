@@ -224,6 +224,8 @@ def test_bench_render_reports_the_split_and_the_encode_only_floor(cli, tmp_path)
     assert set(figures["split"]) == {"simulate", "draw", "encode"}
     assert figures["render_over_encode_only"] == pytest.approx(figures["render_seconds"] / figures["encode_only_seconds"])
     assert "render / encode-only" in result.stdout
+    assert [row["scene"] for row in figures["stills"]] == ["video_job", "broadphase_six"]
+    assert result.stdout.count("-s (the last frame alone)") == 2
     assert sorted(p.name for p in tmp_path.iterdir()) == ["render.json"]   # scratch videos removed
 
 

@@ -21,12 +21,13 @@ def six():
 
 
 def states(trajectory):
-    """A FrameState for every sample, as the player builds them."""
+    """A FrameState for every sample, as the player builds them (one memory for the whole play)."""
+    memory = {}
     for f in range(len(trajectory.times)):
         past = trajectory.events.take(trajectory.events.time <= trajectory.times[f] + 1e-12)
         yield FrameState(float(trajectory.times[f]), f, trajectory.positions[f], trajectory.velocities[f],
                          trajectory.angles[f], int(trajectory.candidates[f]), int(trajectory.pair_collisions[f]),
-                         0, 0, past)
+                         0, 0, past, memory=memory)
 
 
 def numbers(text):
@@ -69,7 +70,14 @@ def test_brute_force_says_it_tests_all_15_pairs_and_counts_the_engines_overlaps(
     assert walked == set(range(1, 16))      # every pair is shown being tested
 
 
+def x_overlaps(lo, hi):
+    """Pairs whose intervals on x overlap, counted here by brute force."""
+    return sum(lo[i, 0] <= hi[j, 0] and lo[j, 0] <= hi[i, 0] for i in range(len(lo)) for j in range(i + 1, len(lo)))
+
+
 def test_sweep_and_prune_reports_pairs_one_step_at_a_time_up_to_the_engines_count(six):
+    """As the video's sweep: every pair whose x intervals meet is reported, more than the two
+    whose boxes overlap (the narrow phase sorts them out)."""
     so_far, at_key = [], None
     for state, trajectory in played(six, 1):
         text = six.sweep_caption(state)
@@ -78,7 +86,8 @@ def test_sweep_and_prune_reports_pairs_one_step_at_a_time_up_to_the_engines_coun
         elif text:
             so_far.append(numbers(text)[-1])
             at_key = engine_candidates(state, trajectory)
-    assert so_far == sorted(so_far) and so_far[-1] == at_key == 2    # grows to the engine's count
+            assert at_key == x_overlaps(*six.boxes(state))
+    assert so_far == sorted(so_far) and so_far[-1] == at_key == 4    # grows to the engine's count
 
 
 def cells_touched(lo, hi, origin, size):
@@ -152,6 +161,8 @@ def test_tunneling_counts_each_missed_particle_once():
         total += once(before, after)
         every += int(module.barrier_crossings(before, after).sum())
     assert 0 < total <= world.n < every     # repeated crossings happen, and are not counted again
+    replayed = list(states(trajectory))      # a second play (a still after the video) counts afresh
+    assert sum(once(before, after) for before, after in zip(replayed, replayed[1:])) == total
 
 
 def scene_module(name):
@@ -195,3 +206,125 @@ def test_two_bodies_reads_its_before_and_after_at_the_impact_and_they_conserve()
     momentum_before, momentum_after, energy_before, energy_after = \
         [tuple(map(float, re.findall(r"-?\d+\.\d+", part))) for part in re.split(r"\$\\to\$|energy", texts.pop())]
     assert momentum_before == momentum_after and energy_before == energy_after
+
+
+def test_raycast_missile_hits_a_particles_surface_with_its_normal_at_every_video_rate():
+    """The missile's ray covers every physics step whatever the video's rate (at -ql a drawn
+    frame is four steps: a ray of one step left three unchecked, and its next ray started inside
+    the particle it had passed, normal (0, 0)); each hit shown is on the particle's circle, at the
+    engine's recorded position, with the outward normal there."""
+    module = scene_module("raycast")
+    scene = module.scene()
+    trajectory = collisim.simulate(scene)
+    found = {}
+    for quality in ("l", "h"):
+        *_, last = played_scene(scene, quality)
+        found[quality] = last.memory["missile hits"]
+    assert found["l"].keys() == found["h"].keys() and len(found["l"]) >= 5
+    for launch, (when, point, normal, particle, inside) in found["l"].items():
+        assert found["h"][launch][:1] + found["h"][launch][3:] == (when, particle, inside)
+        centre = trajectory.positions[int(round(when * trajectory.fps)), particle]
+        assert np.hypot(*normal) == pytest.approx(1.0)
+        assert point - centre == pytest.approx(scene.world.radii[particle] * normal)
+
+
+def test_raycast_missile_starting_inside_a_particle_shows_its_nearest_surface_and_normal():
+    """A particle that moved onto the missile during a step: the query answers inside, normal
+    (0, 0); the scene keeps the particle's surface point nearest the missile and its outward
+    normal, and says the particle moved onto it."""
+    module = scene_module("raycast")
+    start_time, start, velocity = module.missile_path(0)
+    before_time, after_time = 0.1, 0.1 + 1 / 60
+    origin = start + velocity * before_time
+    centre = origin + np.array([0.1, -0.2])
+    world = collisim.World(positions=[centre], velocities=[[0.0, 0.0]], radii=0.5, box=module.BOX)
+
+    def frame(time):
+        return FrameState(time, 0, world.positions, world.velocities, world.angles, 0, 0, 0, 0, None, memory=memory)
+    memory = {}
+    assert module.missile_hits(world)(frame(before_time), frame(after_time)) == 1
+    when, point, normal, particle, inside = memory["missile hits"][0]
+    outward = (origin - centre) / np.hypot(*(origin - centre))
+    assert inside and particle == 0 and normal == pytest.approx(outward)
+    assert point == pytest.approx(centre + 0.5 * outward)
+    assert "moved onto it" in module.missile_status(frame(after_time), 1 / 60)
+
+
+def test_polygons_captions_read_the_engines_funnel_on_every_frame():
+    module = scene_module("polygons")
+    scene = module.scene().with_options(seconds=2.0)
+    trajectory = collisim.simulate(scene)
+    n, shown = scene.world.n, 0
+    for state in played_scene(scene):
+        circles, boxes, oriented, touching = trajectory.hierarchy[state.sample]
+        assert numbers(module.funnel(n)(state)) == [n * (n - 1) // 2, circles, boxes, oriented, touching]
+        assert numbers(module.shape_tests(n)(state)) == [oriented, n * (n - 1) // 2]
+        shown += touching
+    assert shown > 0 and circles >= boxes >= oriented >= touching
+
+
+def test_collision_map_says_its_resolution_and_counts_the_engines_map_contacts():
+    import cv2
+    from collisim.core.kinds import MAP
+    module = scene_module("collision_map")
+    rows, cols = cv2.imread(str(module.LEVEL), cv2.IMREAD_GRAYSCALE).shape     # the image, read apart
+    table = module.level()
+    first = module.distance_field_notes(table).items
+    assert numbers(first[0].text)[:2] == [cols, rows]
+    assert f"cell {module.CELL:g} = radius / {module.RADIUS / module.CELL:.1f}" in first[1].text
+    scene = module.scene().with_options(seconds=1.5)
+    trajectory = collisim.simulate(scene.panels[0].scene)
+    for state in played_scene(scene):
+        assert numbers(module.map_contacts(state)) == [int(np.sum(trajectory.events.kind[
+            trajectory.events.time <= state.time + 1e-12] == MAP))]
+    assert numbers(module.map_contacts(state))[0] > 0
+
+
+def test_raycast_sensor_caption_counts_hits_as_brute_force_finds_them():
+    """Rays of particles hit, against every particle tested: the nearest circle each ray meets
+    within its reach, before the walls."""
+    module = scene_module("raycast")
+    scene = module.scene().with_options(seconds=0.5)
+    world = scene.world
+    for state in list(played_scene(scene))[::3]:
+        origins, directions, _ = module.sensor_rays(world, state)
+        exact = collisim.raycast_many(world, origins, directions, module.REACH, broadphase="brute",
+                                      positions=state.positions)
+        to_centres = state.positions[None] - origins[:, None]                     # (rays, n, 2)
+        along = np.einsum("rnk,rk->rn", to_centres, directions)
+        miss2 = np.einsum("rnk,rnk->rn", to_centres, to_centres) - along ** 2
+        entry = along - np.sqrt(np.maximum(world.radii ** 2 - miss2, 0.0))
+        meets = (miss2 <= world.radii ** 2) & (along > 0) & (entry <= module.REACH)
+        ahead = np.where(directions > 0, np.array(module.BOX[2:]), np.array(module.BOX[:2])) - origins
+        with np.errstate(divide="ignore", invalid="ignore"):
+            wall = np.where(directions != 0, ahead / directions, np.inf).min(axis=1)   # the wall it leaves by
+        first_body = np.where(meets, entry, np.inf).min(axis=1)
+        particles = int(np.sum(first_body <= np.minimum(wall, module.REACH)))
+        walls = int(np.sum((wall <= module.REACH) & (first_body > wall)))
+        found = numbers(module.sensor_status(world)(state))
+        assert found[:3] == [module.RAYS, particles, walls]
+        assert found[-1] == module.RAYS * world.n and found[-2] <= found[-1]
+        assert (exact.kinds == exact.KIND_NAMES.index("body")).sum() == particles
+
+
+def test_tunneling_remedies_slower_or_more_frames_miss_none_where_the_fast_run_misses():
+    """The video's easy remedies, counted on screen from the played samples and here from the
+    engine's own runs: the fast particles tunnel, slowed down or at eight times the frames a
+    second they do not."""
+    from collisim.render.player import make_players
+    module = scene_module("tunneling")
+    chapter_scene = module.scene().chapters[0]
+    job = collisim.pipeline.plan(module.scene(), quality="l")
+    players = make_players(job.chapters[0], job.size, job.fps)
+    for frame in range(job.chapters[0].frames):
+        for player in players:
+            player.advance(frame)
+    missed = []
+    for player, panel in zip(players, chapter_scene.panels):
+        trajectory = collisim.simulate(panel.scene)
+        frames = list(states(trajectory))[:player.state.sample + 1]
+        once = module.MissedOnce(module.barrier_crossings)
+        missed.append(sum(once(before, after) for before, after in zip(frames, frames[1:])))
+        assert player.state.counters["missed"] == missed[-1]
+    assert missed[0] > 0 and missed[1:] == [0, 0]
+    assert [panel.scene.fps for panel in chapter_scene.panels] == [60, 60, 60 * module.REMEDY]

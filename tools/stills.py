@@ -26,13 +26,14 @@ SCENES = ("frame_rate", "single_bounce", "two_bodies", "tunneling", "broadphase_
 QUALITIES = ("l", "h")
 WALK_FPS = 15
 # the share of each chapter's frames at which its still is taken (default 0.9)
-MOMENTS = {"broadphase_six": (0.62, 0.64, 0.65, 0.6, 0.66, 0.35), "two_bodies": (0.5,), "tunneling": (0.5, 0.9),
+MOMENTS = {"broadphase_six": (0.62, 0.64, 0.65, 0.6, 0.66, 0.35), "two_bodies": (0.5,), "tunneling": (0.95, 0.5, 0.9),
            "single_bounce": (0.6,), "teacher_drop": (0.6,)}
 CHAPTERS = {
     "frame_rate": ("15 and 60 fps side by side", "ghosts and linear interpolation"),
     "single_bounce": ("update, detection, response",),
     "two_bodies": ("the impact, frozen: line of centres, masses, velocities",),
-    "tunneling": ("discrete at 1 and 4 substeps against ccd", "solving for t_c over a frozen frame"),
+    "tunneling": ("the easy remedies: slower, more frames", "discrete at 1 and 4 substeps against ccd",
+                  "solving for t_c over a frozen frame"),
     "broadphase_six": ("brute force: all 15 pairs", "sweep and prune: the sorted walk",
                        "uniform grid: cells, counts, memory", "kd-tree: median splits", "BVH: build and traversal",
                        "narrow phase: the exact test"),

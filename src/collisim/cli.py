@@ -8,6 +8,7 @@ from __future__ import annotations
 import argparse
 import gc
 import os
+import re
 import signal
 import sys
 import time
@@ -22,7 +23,7 @@ from .broadphase import NAMES as BROAD_PHASES
 from .engine import METHODS
 from .engine.profile import profile_table
 from .interrupts import signals_interrupt
-from .io.formats import FORMATS
+from .io.formats import BY_EXTENSION, FORMATS
 from .model.scenefile import available_scenes, describe_scene_file, load_scene
 from .render.video import QUALITIES, THEMES
 
@@ -39,6 +40,16 @@ def parse_size(text: str) -> tuple:
         width, height = (int(v) for v in text.lower().split("x"))
     except ValueError:
         raise argparse.ArgumentTypeError(f"size must look like 1280x720, got '{text}'") from None
+    return width, height
+
+
+def parse_resolution(text: str) -> tuple:
+    """manim's -r: "W,H" (manim also splits on ';' and '-'); a single number is refused, as
+    manim refuses it."""
+    try:
+        width, height = (int(v) for v in re.split(r"[;,\-]", text))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"resolution must look like 1280,720 (width,height), got '{text}'") from None
     return width, height
 
 
@@ -65,20 +76,28 @@ def add_render_options(render) -> None:
     render.add_argument("scene", help="scene name (e.g. single_bounce), path to a scene file, or a saved "
                                       "trajectory (.npz)")
     render.add_argument("--out", help="a file (.mp4 .webm .gif .mov), DIR/ for DIR/<scene>.<ext>, or with "
-                                      "--format png the sequence's folder (default renders/<scene>/<quality>.<ext>)")
+                                      "--format png the sequence's folder (default renders/<scene>/<quality>.<ext>, "
+                                      "with the physics flags that change the scene: 720p30_ccd.mp4)")
+    render.add_argument("-o", "--output_file", metavar="NAME",
+                        help="as manim: the file's name in renders/<scene>/ (the format's extension added when "
+                             "missing)")
     render.add_argument("--format", choices=tuple(FORMATS), help="mp4 (default), webm, gif, mov, or png (a "
                                                                  "sequence); else the extension of --out")
     render.add_argument("--fps", type=float, help="frame rate of the video (the simulation keeps its own step)")
     render.add_argument("--physics-fps", type=float, metavar="N", help="simulation steps per second")
     render.add_argument("--seconds", type=float, help="duration")
     render.add_argument("--size", type=parse_size, help="frame size WxH (default: the scene's, by quality)")
+    render.add_argument("-r", "--resolution", type=parse_resolution, dest="size", metavar="W,H",
+                        help="as manim: the frame size as width,height (the same as --size WxH)")
     render.add_argument("-q", "--quality", choices=tuple(QUALITIES),
                         help="-ql 480p15, -qm 720p30, -qh 1080p60, -qk 2160p60: size, video fps and "
-                             "encoder quality (default: the scene's size and fps)")
+                             "encoder quality (default: the scene's size and fps); a scene whose lesson needs a "
+                             "higher rate keeps it (RenderSettings.min_fps) and says so")
     render.add_argument("--codec", choices=FORMATS["mp4"].codecs, help="mp4 only: h264 (default) or mp4v")
-    render.add_argument("--transparent", action="store_true", help="background alpha 0 (webm, mov, png)")
+    render.add_argument("-t", "--transparent", action="store_true", help="background alpha 0 (webm, mov, png)")
     render.add_argument("--background", metavar="#RRGGBB", help="background colour")
-    render.add_argument("--theme", choices=tuple(THEMES), default="dark", help="colour theme (default dark)")
+    render.add_argument("--theme", choices=tuple(THEMES),
+                        help="colour theme (default: the one whose text reads on --background, else dark)")
     render.add_argument("-s", "--last-frame", action="store_true", help="write the last frame as PNG")
     render.add_argument("--png", type=int, metavar="FRAME", help="write frame FRAME as PNG instead of a video")
     render.add_argument("--no-limits", action="store_true",
@@ -111,8 +130,9 @@ PHYSICS_FLAGS = {"method": "--method", "substeps": "--substeps", "broadphase": "
 
 
 def render_source(args):
-    """(source, name, fps): the scene with the command line's physics applied, or the saved
-    trajectory, and its own frame rate before --physics-fps; a note names the physics flags a
+    """(source, name, fps, variant): the scene with the command line's physics applied, or the
+    saved trajectory, its own frame rate before --physics-fps, and what in its physics the flags
+    changed, for the default file name (physics_variant); a note names the physics flags a
     source ignores."""
     from .model.trajectory import load_trajectory
     given = [flag for key, flag in PHYSICS_FLAGS.items() if getattr(args, key) is not None]
@@ -122,27 +142,52 @@ def render_source(args):
             given.append("--seconds")
         if given:
             note(f"a saved trajectory plays as it was simulated; ignoring {', '.join(given)}")
-        return source, Path(args.scene).stem, source.fps
+        return source, Path(args.scene).stem, source.fps, ""
     scene = load_scene(args.scene)
     if scene.world is None:  # panels or chapters: their own physics is what they show
         if given:
             kind = "panels" if scene.panels else "chapters"
             note(f"{scene.name} is made of {kind} that keep their own physics (they exist to compare "
                  f"settings); ignoring {', '.join(given)}")
-        return scene.with_options(seconds=args.seconds), scene.name, scene.fps
+        return scene.with_options(seconds=args.seconds), scene.name, scene.fps, ""
     return scene.with_options(fps=args.physics_fps, seconds=args.seconds, method=args.method,
                               substeps=args.substeps, broadphase=args.broadphase,
-                              restitution=args.restitution), scene.name, scene.fps
+                              restitution=args.restitution), scene.name, scene.fps, physics_variant(scene, args)
 
 
-def default_out(job, args) -> str:
-    """renders/<scene>/<quality>.<ext>: the quality as manim names it (480p15, 720p30, 1080p60,
-    2160p60, or height p fps), or WxH for --size; a PNG sequence is the folder without extension."""
+def physics_variant(scene, args) -> str:
+    """The physics flags that change a scene of one world, as the default file name's suffix
+    (`_ccd`, `_x8`, `_grid`, `_physics30`, `_e0p9`, in that order), so renders of different
+    physics do not overwrite each other; '' when none does. A number's point is written p (a
+    PNG sequence's folder has no extension). --seconds only cuts the same run: no suffix."""
+    def number(value) -> str:
+        return f"{value:g}".replace(".", "p")
+    changes = [(args.method, scene.method, str), (args.substeps, scene.substeps, lambda k: f"x{k}"),
+               (args.broadphase, scene.broadphase, str), (args.physics_fps, scene.fps, lambda f: f"physics{number(f)}"),
+               (args.restitution, scene.world.restitution, lambda e: f"e{number(e)}")]
+    return "".join(f"_{spell(given)}" for given, own, spell in changes if given is not None and given != own)
+
+
+def default_out(job, args, variant: str = "") -> str:
+    """renders/<scene>/<quality><variant>.<ext>: the quality as manim names it (480p15, 720p30,
+    1080p60, 2160p60, or height p fps), or WxH for --size, then what the physics flags changed
+    (physics_variant); a PNG sequence is the folder without extension. With -o NAME, as manim:
+    renders/<scene>/NAME, its extension added when missing (a .mp4 .webm .gif .mov one names
+    the format, as --out's does)."""
     if args.last_frame or args.png is not None:
         extension = ".png"
     else:
         extension = FORMATS[args.format or "mp4"].extension
-    return str(Path("renders") / job.name / f"{job.label}{extension}")
+    if args.output_file is None:
+        return str(Path("renders") / job.name / f"{job.label}{variant}{extension}")
+    name = args.output_file
+    if not name or name.endswith(("/", "\\")) or Path(name).is_absolute():
+        raise ValueError(f"-o takes a file name, which goes into renders/{job.name}/, got '{name}' (--out takes "
+                         f"a path)")
+    own = Path(name).suffix.lower()
+    if extension and own != extension and (extension == ".png" or own not in BY_EXTENSION):
+        name += extension
+    return str(Path("renders") / job.name / name)
 
 
 def cmd_render(args) -> int:
@@ -151,14 +196,16 @@ def cmd_render(args) -> int:
     from .render.video import Progress
 
     start = time.perf_counter()
-    source, name, own_fps = render_source(args)
+    if args.out is not None and args.output_file is not None:
+        raise ValueError("choose one output: --out PATH, or -o NAME (a name in renders/<scene>/), not both")
+    source, name, own_fps, variant = render_source(args)
     settings = None if isinstance(source, Scene) else RenderSettings()
     fps = args.fps
     if fps is None and args.quality is None:
         fps = own_fps   # the scene's video rate, even when --physics-fps changed its step
     job = plan(source, args.size, fps=fps, quality=args.quality, settings=settings, name=name,
                limits=not args.no_limits)
-    out = output_for(job, args.out if args.out is not None else default_out(job, args), format=args.format,
+    out = output_for(job, args.out if args.out is not None else default_out(job, args, variant), format=args.format,
                      codec=args.codec, transparent=args.transparent, background=args.background, theme=args.theme,
                      png_frame=args.png, last_frame=args.last_frame)
     profile = {} if args.profile else None

@@ -74,6 +74,50 @@ PARTICLES = np.array([
 ], dtype=np.uint8)
 
 
+def parse_color(value, what: str = "colour") -> tuple:
+    """(r, g, b) ints from '#RRGGBB' (or 'RRGGBB') or three values in 0..255; ValueError naming
+    `what` otherwise."""
+    if isinstance(value, str):
+        text = value.strip().lstrip("#")
+        if len(text) == 6 and all(c in "0123456789abcdefABCDEF" for c in text):
+            return tuple(int(text[k:k + 2], 16) for k in (0, 2, 4))
+        raise ValueError(f"{what} must look like #1a2b3c, got '{value}'")
+    try:
+        rgb = tuple(value)
+    except TypeError:
+        raise ValueError(f"{what} must be '#RRGGBB' or three values in 0..255, got {value!r}") from None
+    if len(rgb) != 3 or not all(isinstance(c, (int, np.integer)) and not isinstance(c, bool) and 0 <= c <= 255
+                                for c in rgb):
+        raise ValueError(f"{what} must be '#RRGGBB' or three whole values in 0..255, got {value!r}")
+    return tuple(int(c) for c in rgb)
+
+
+def parse_colors(values, what: str = "colors") -> np.ndarray:
+    """(n, 3) uint8 RGB from a list of colours, each as parse_color takes it."""
+    if isinstance(values, str) or not hasattr(values, "__len__"):
+        raise ValueError(f"{what} must be a list of colours, one per body ('#RRGGBB' or (r, g, b)), got {values!r}")
+    return np.array([parse_color(v, f"{what}[{k}]") for k, v in enumerate(values)], np.uint8).reshape(-1, 3)
+
+
+def luminance(rgb) -> float:
+    """Relative luminance (WCAG 2, sRGB) of an RGB colour, 0 for black to 1 for white."""
+    channels = np.asarray(rgb, float) / 255.0
+    linear = np.where(channels <= 0.04045, channels / 12.92, ((channels + 0.055) / 1.055) ** 2.4)
+    return float(linear @ (0.2126, 0.7152, 0.0722))
+
+
+def contrast(a, b) -> float:
+    """WCAG 2 contrast ratio of two colours, 1 (the same) to 21 (black on white)."""
+    high, low = sorted((luminance(a), luminance(b)), reverse=True)
+    return (high + 0.05) / (low + 0.05)
+
+
+def theme_for(background) -> str:
+    """The theme whose text and HUD read best on `background`: the one whose dimmest text
+    (the HUD's) has the higher contrast with it."""
+    return max(THEMES, key=lambda name: contrast(THEMES[name].dim_text, background))
+
+
 def default_colors(radii: np.ndarray) -> np.ndarray:
     """One colour per distinct radius (smallest first), cycling through the palette.
 

@@ -66,6 +66,33 @@ def video_seconds(scene: Scene) -> float:
     return scene.seconds + (scene.render.pace.extra if scene.render.pace is not None else 0.0)
 
 
+def check_colors(scene: Scene) -> None:
+    """ValueError for a scene, panel or chapter whose RenderSettings.colors miss a body or have
+    one too many, before anything is simulated."""
+    if scene.world is not None:
+        scene.render.check_colors(scene.world.n)
+    for part in [panel.scene for panel in scene.panels] + list(scene.chapters):
+        check_colors(part)
+
+
+def lesson_fps(scene: Scene) -> float | None:
+    """The highest RenderSettings.min_fps of a scene and its panels and chapters, or None."""
+    parts = [panel.scene for panel in scene.panels] + list(scene.chapters)
+    needs = [scene.render.min_fps] + [lesson_fps(part) for part in parts]
+    needs = [need for need in needs if need is not None]
+    return max(needs) if needs else None
+
+
+def keep_lesson_rate(rate: float, need: float | None, fps, quality, name: str) -> float:
+    """The video rate a quality preset gives, raised to what the scene's lesson needs (its
+    min_fps), with a note; an explicit fps, or no preset, is left as it is."""
+    if need is None or fps is not None or quality is None or rate >= need:
+        return rate
+    warnings.warn(f"{name} needs {need:g} fps video to show what it teaches: -q{quality} keeps {need:g} fps "
+                  f"(not {rate:g}) and lowers only the size", stacklevel=4)
+    return need
+
+
 def trajectory_chapters(panels: list, settings: RenderSettings, layout=None, fps: float | None = None) -> list:
     """One chapter of (title, Trajectory) panels, as long as the longest at the video's `fps`
     (default: the first trajectory's)."""
@@ -94,27 +121,30 @@ def plan(source, size=None, *, fps=None, quality=None, settings: RenderSettings 
     """The Plan of rendering a Scene, a Trajectory or a list of (title, Trajectory).
 
     size: (width, height), else the quality's height at the scene's aspect ratio, else the
-    scene's size; fps: the video's frame rate, else the quality's (l 15, m 30, h 60, k 60), else
-    the scene's. `limits` refuses frames over 7680x4320, videos over 100 000 frames and scenes
+    scene's size; fps: the video's frame rate, else the quality's (l 15, m 30, h 60, k 60) but
+    no lower than the scene's RenderSettings.min_fps (a warning says so), else the scene's. `limits` refuses frames over 7680x4320, videos over 100 000 frames and scenes
     of more than 10 000 000 simulation steps."""
     if isinstance(source, Scene):
         check_scene(source, METHODS)
         if limits:
             check_steps(source)
+        check_colors(source)
         base, own_fps, name = source.render.size, source.fps, name or source.name
-        rate = video_fps(own_fps, fps, quality)
+        rate = keep_lesson_rate(video_fps(own_fps, fps, quality), lesson_fps(source), fps, quality, name)
         chapters, frames = scene_chapters(source, rate), video_frames(video_seconds(source), rate)
     else:
         panels = [("", source)] if isinstance(source, Trajectory) else list(source)
         if not panels or not all(isinstance(t, Trajectory) for _, t in panels):
             raise ValueError("render takes a Scene, a Trajectory, or a list of (title, Trajectory)")
         settings = settings or RenderSettings()
+        for _, trajectory in panels:
+            settings.check_colors(trajectory.world.n)
         if settings.arrows and any(t.storage == "positions" for _, t in panels):
             raise ValueError("velocity arrows need velocities, and this trajectory kept positions only "
                              "(simulate(..., storage='positions')): render it without arrows, or simulate "
                              "with storage='float32'")
         base, name = settings.size, name or "trajectory"
-        rate = video_fps(panels[0][1].fps, fps, quality)
+        rate = keep_lesson_rate(video_fps(panels[0][1].fps, fps, quality), settings.min_fps, fps, quality, name)
         chapters = trajectory_chapters(panels, settings, settings.layout, rate)
         frames = chapters[0].frames
     frame_size = output_size(base, size, quality)
@@ -136,7 +166,7 @@ class Output:
     transparent: bool
 
 
-def output_for(job: Plan, path, *, format=None, codec=None, transparent=False, background=None, theme="dark",
+def output_for(job: Plan, path, *, format=None, codec=None, transparent=False, background=None, theme=None,
                png_frame: int | None = None, last_frame: bool = False) -> Output:
     """The Output of a planned render to `path` (see render); ValueError for any mismatch. It
     writes nothing."""
@@ -156,7 +186,7 @@ def output_for(job: Plan, path, *, format=None, codec=None, transparent=False, b
 
 
 def render(source, path, size=None, *, fps=None, quality=None, format=None, codec=None, transparent=False,
-           background=None, theme="dark", png_frame: int | None = None, last_frame: bool = False,
+           background=None, theme=None, png_frame: int | None = None, last_frame: bool = False,
            limits: bool = True, settings: RenderSettings | None = None, progress=False,
            profile: dict | None = None) -> Path:
     """Render a Scene, a Trajectory, a list of (title, Trajectory), or a Plan from plan(), and
@@ -167,7 +197,8 @@ def render(source, path, size=None, *, fps=None, quality=None, format=None, code
     format='png' the folder of a PNG sequence. png_frame (or last_frame) writes that one frame
     as a PNG instead. quality: l, m, h, k (480p15, 720p30, 1080p60, 2160p60), also the encoder's
     quality; codec: h264 (default) or mp4v for mp4. transparent: background pixels get alpha 0
-    (webm, mov, png). background: '#RRGGBB' or RGB, else the theme's (dark, light).
+    (webm, mov, png). background: '#RRGGBB' or RGB, else the theme's; theme: dark or light, else
+    the one whose text reads on the background (light on white), else dark.
 
     The output appears only when complete. `settings` draws trajectories (a scene brings its
     own). Bad input raises ValueError before anything is simulated. `progress`: a bar on stderr

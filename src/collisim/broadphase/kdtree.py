@@ -1,10 +1,11 @@
 """k-d tree: split space in two at the median, again and again.
 
 Start with one region holding every box. Split it with a line through the
-median of the box centres — along the axis where the centres spread widest —
-so that half the boxes lie on each side. A box that straddles the line goes
-to *both* sides: it could touch boxes on either. Repeat on each side until a
-region is a leaf, then test the boxes inside each leaf against each other.
+median of the box centres, so that half the boxes lie on each side. A box
+that straddles the line goes to *both* sides: it could touch boxes on either.
+Repeat on each side on the opposite axis, as the video does: x at the root,
+y one level down, x the next, ... (the axis is the depth's parity). Stop when
+a region is a leaf, then test the boxes inside each leaf against each other.
 
 A region becomes a leaf when
 
@@ -12,9 +13,11 @@ A region becomes a leaf when
 * it sits ``max_depth`` splits deep, or
 * no split helps: if one side would still hold every box, splitting removes
   nothing (the video's example: two overlapping particles straddle any line
-  between them, so both sides would keep both). We then try the other axis,
-  and if that fails too the region stays a leaf. Requiring both sides to
-  shrink also guarantees that the recursion ends.
+  between them, so both sides would keep both). We then try the other axis
+  (beyond the video: boxes lined up across the depth's axis, all straddling
+  its median, would otherwise leave one crowded leaf), and if that fails too
+  the region stays a leaf. Requiring both sides to shrink also guarantees
+  that the recursion ends. The children still take their own depth's axis.
 
 The exact split rule: with the node's m centres sorted on the axis, the line
 goes halfway between the (m//2)-th and the next one, so the lower half of the
@@ -40,7 +43,7 @@ from numba import njit
 
 from ..core.arrays import grown
 from ._common import (BroadPhase, bounding_box, boxes_overlap, check_boxes, check_int_option, copy_row, gathered_boxes,
-                      new_pair_buffer, overlapping_in_run, push_pair, row_centre, select_smallest, widest_axis)
+                      new_pair_buffer, overlapping_in_run, push_pair, row_centre, select_smallest)
 from ._rays import farther_then_nearer, hits_in_run, new_hit_buffers, ray_box_entry
 
 
@@ -74,14 +77,14 @@ def choose_split(rows, depth, leaf_size, max_depth, keys):
     """Decide whether and how to split a node.
 
     rows: (m, 4) the node's boxes (gathered_boxes); keys: scratch. Returns (axis, value,
-    left count, right count), or axis -1 for a leaf. Tries the axis of widest centre
-    spread first, then the other one; a split counts only if both sides end up with
-    fewer boxes than the node.
+    left count, right count), or axis -1 for a leaf. Tries the depth's axis first (x at
+    even depths, y at odd ones: the video's alternation), then the other one; a split
+    counts only if both sides end up with fewer boxes than the node.
     """
     m = rows.shape[0]
     if m > leaf_size and depth < max_depth:
-        widest = widest_axis(rows)
-        for axis in (widest, 1 - widest):
+        turn = depth % 2
+        for axis in (turn, 1 - turn):
             value = median_split_value(rows, axis, keys)
             left, right = side_counts(rows, axis, value)
             if left < m and right < m:

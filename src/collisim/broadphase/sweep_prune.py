@@ -4,8 +4,10 @@ Project every box onto one axis; it becomes an interval [min, max]. Sort the
 intervals by their min and walk through them in that order. The video keeps an
 *active list* of the intervals the sweep line is still inside: when a new
 interval starts, those that ended before its min leave the list, and every one
-still in it overlaps the new one on the sweep axis. Those that also overlap it
-on the other axis are reported as a pair.
+still in it overlaps the new one on the sweep axis: each is reported as a
+candidate pair, as the video reports them (its six particles: 15 pairs narrowed
+to those whose intervals meet). The other axis is not looked at; the narrow
+phase tests every candidate exactly, so what collides is the same.
 
 The code finds the same pairs from the other end, without the list: box i's
 partners on the sweep axis that start after it are exactly the boxes that
@@ -18,7 +20,9 @@ first, so the walk reads memory in sequence. (For a uniform gas the runs still g
 as the square root of n: a sweep line crosses that many boxes.)
 
 We sweep the axis along which the box centres vary most (the larger
-variance): spread-out intervals keep the runs short.
+variance; the video names it among the refinements): spread-out intervals
+keep the runs short. Boxes crowded into one stretch of that axis still give
+nearly every pair as a candidate: the bad input the video warns of.
 
 Beyond the video — temporal coherence. From one frame to the next the circles
 barely move, so last frame's sorted order is almost sorted already. Insertion
@@ -38,7 +42,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ._common import BroadPhase, box_meets_query, check_boxes, new_pair_buffer, push_index, push_pair
+from ._common import BroadPhase, box_meets_query, check_boxes, new_pair_buffer, push_index, put_pair, reserve_pairs
 from ._rays import crossing, new_hit_buffers, push_hit, ray_box_entry
 
 
@@ -53,36 +57,27 @@ def sweep_axis(lo: np.ndarray, hi: np.ndarray) -> int:
 
 @njit(cache=True)
 def sweep(lo, hi, order, axis):
-    """Overlapping box pairs found by sweeping `axis`.
+    """The pairs whose intervals on `axis` overlap (touching counts): the video's candidates.
 
     lo, hi: (n, 2) box corners; order: (n,) box indices sorted by lo[:, axis]
     (ties by index); axis: 0 or 1. Returns (k, 2) intp pairs with i < j.
     """
     n = order.shape[0]
-    other = 1 - axis
-    # The four coordinates in sweep order: the forward walks read them in sequence.
+    # The intervals in sweep order: the forward walks read them in sequence.
     start, end = np.empty(n), np.empty(n)
-    low, high = np.empty(n), np.empty(n)
     for p in range(n):
         i = order[p]
         start[p], end[p] = lo[i, axis], hi[i, axis]
-        low[p], high[p] = lo[i, other], hi[i, other]
     pairs, count = new_pair_buffer(n), np.intp(0)
-    hits = np.empty(n, np.intp)
     for p in range(n):
         # The run of later boxes starting at or before this one's end: every one overlaps
-        # it on the sweep axis (touching counts); the first starting beyond it ends the run.
+        # it on the sweep axis; the first starting beyond it ends the run.
         stop = p + 1
         while stop < n and start[stop] <= end[p]:
             stop += 1
-        # Few of the run overlap on the other axis too: write every position and advance
-        # only on a hit, which has no branch to mispredict (three times faster at 10^5).
-        found = 0
+        pairs = reserve_pairs(pairs, count, stop - p - 1)
         for q in range(p + 1, stop):
-            hits[found] = q
-            found += (low[p] <= high[q]) & (low[q] <= high[p])
-        for h in range(found):
-            pairs, count = push_pair(pairs, count, order[p], order[hits[h]])
+            count = put_pair(pairs, count, order[p], order[q])
     return pairs[:count]
 
 

@@ -120,8 +120,9 @@ class VP9Writer(I420Frames, PyAVWriter):
 
 
 class ProResWriter(PyAVWriter):
-    """ProRes 4444 in MOV (prores_ks): yuv444p10le, or yuva444p10le with alpha when transparent —
-    the editing format (large files, no generation loss)."""
+    """ProRes 4444 in MOV (prores_ks), written from yuv444p10le frames (yuva444p10le with alpha when
+    transparent) — the editing format (large files, no generation loss). ProRes 4444 carries
+    12-bit samples: FFmpeg decodes the file as yuv444p12le (yuva444p12le)."""
 
     codec, suffix, container, encoder = "prores", ".mov", "mov", "prores_ks"
     pix_fmt, alpha_pix_fmt, alpha = "yuv444p10le", "yuva444p10le", True

@@ -1,12 +1,15 @@
 """Output formats and where a render goes: the format comes from --format or from the extension of
 the output, and every mismatch is one clear error before anything is simulated.
 
-    format  extension  writer(s)        pixel format                         transparency
-    mp4     .mp4       h264 (or mp4v)   yuv420p                              no
-    webm    .webm      vp9              yuv420p, yuva420p when transparent   yes
-    gif     .gif       gif              pal8, one palette from the frames    no
-    mov     .mov       prores (4444)    yuv444p10le, yuva444p10le            yes
-    png     (folder)   png              rgb24, rgba when transparent         yes
+    format  extension  writer(s)        pixel format, as FFmpeg decodes it     transparency
+    mp4     .mp4       h264 (or mp4v)   yuv420p                                no
+    webm    .webm      vp9              yuv420p, yuva420p when transparent     yes (libvpx-vp9 reads the alpha)
+    gif     .gif       gif              bgra (the file holds palette indices)  no
+    mov     .mov       prores (4444)    yuv444p12le, yuva444p12le              yes
+    png     (folder)   png              rgb24, rgba when transparent           yes
+
+ProRes 4444 is written from 10-bit frames (yuv444p10le) and carries 12-bit samples: FFmpeg's
+decoder, as editors do, reads it as 12-bit. tests/test_formats_decoded.py decodes every row.
 """
 from __future__ import annotations
 
@@ -21,14 +24,18 @@ class Format:
     codecs: tuple       # the writers (io/writers.py WRITERS) that make it; the first is the default
     transparent: bool   # can carry an alpha channel
     what: str           # codec and pixel format, for messages and the README's table
+    decodes: tuple = ()  # the pixel format FFmpeg decodes it as: (opaque, transparent or None)
+    alpha_decoder: str | None = None   # the decoder that reads its alpha, when FFmpeg's own drops it
 
 
 FORMATS = {f.name: f for f in (
-    Format("mp4", ".mp4", ("h264", "mp4v"), False, "H.264, yuv420p"),
-    Format("webm", ".webm", ("vp9",), True, "VP9, yuv420p (yuva420p when transparent)"),
-    Format("gif", ".gif", ("gif",), False, "GIF, one palette generated from the frames"),
-    Format("mov", ".mov", ("prores",), True, "ProRes 4444, yuv444p10le (yuva444p10le when transparent)"),
-    Format("png", "", ("png",), True, "one PNG per frame in a folder (RGBA when transparent)"),
+    Format("mp4", ".mp4", ("h264", "mp4v"), False, "H.264, yuv420p", ("yuv420p", None)),
+    Format("webm", ".webm", ("vp9",), True, "VP9, yuv420p (yuva420p when transparent)", ("yuv420p", "yuva420p"),
+           alpha_decoder="libvpx-vp9"),
+    Format("gif", ".gif", ("gif",), False, "GIF, one palette generated from the frames", ("bgra", None)),
+    Format("mov", ".mov", ("prores",), True, "ProRes 4444, 12-bit: decodes as yuv444p12le (yuva444p12le when "
+                                            "transparent)", ("yuv444p12le", "yuva444p12le")),
+    Format("png", "", ("png",), True, "one PNG per frame in a folder (RGBA when transparent)", ("rgb24", "rgba")),
 )}
 BY_EXTENSION = {f.extension: f.name for f in FORMATS.values() if f.extension}
 

@@ -8,6 +8,7 @@ from dataclasses import dataclass, field
 from typing import Callable, Optional
 
 from ..core import checks
+from ..palette import parse_colors
 from .world import World
 
 QUALITY_SIZES = {"l": (854, 480), "m": (1280, 720), "h": (1920, 1080)}
@@ -25,7 +26,13 @@ class RenderSettings:
     `counters` maps a name to `count(before, after)`, called for every pair of consecutive
     samples (FrameState) the panel plays; the player keeps the running sum in
     state.counters[name], so an overlay can show a number that derives from the trajectory
-    (such as missed collisions) without simulating anything."""
+    (such as missed collisions) without simulating anything.
+    `colors`: one colour per body, '#RRGGBB' or (r, g, b) in 0..255, drawing the bodies (and
+    their trails) in place of the World's colours (by default one per size, so a rack of equal
+    balls is one colour); its length must be the number of bodies.
+    `min_fps`: the video frame rate what the scene teaches needs (frame_rate's 60 fps panel must
+    move more smoothly than its 15 fps one): a quality preset (-ql's 15 fps) lowers the size but
+    keeps at least this rate, and says so; an explicit fps is the user's."""
     size: tuple = QUALITY_SIZES["m"]
     trails: int = 0            # motion-trail length in frames; 0 draws none
     arrows: bool = False       # velocity arrows
@@ -37,9 +44,12 @@ class RenderSettings:
     counters: dict = field(default_factory=dict)
     explainer: Optional[object] = None   # render.explain.Explainer: captions, formulas, arrows, marks
     pace: Optional[object] = None        # render.pace.Pace: slow motion and freeze frames
+    min_fps: Optional[float] = None      # the lowest video frame rate the lesson survives
+    colors: Optional[object] = None      # one colour per body, in place of the World's
 
     def __post_init__(self):
-        """Refuse, in one line, what the player could only fail on mid-render."""
+        """Refuse, in one line, what the player could only fail on mid-render (colors of the
+        wrong length are refused when the scene is planned: check_colors)."""
         self.size = checks.whole_pair("size", self.size)
         self.layout = None if self.layout is None else checks.whole_pair("layout", self.layout)
         if not checks.is_whole(self.trails):
@@ -54,6 +64,17 @@ class RenderSettings:
             raise ValueError(f"explainer must be an Explainer (collisim.render.explain), got {self.explainer!r}")
         if self.pace is not None and not hasattr(self.pace, "simulation_time"):
             raise ValueError(f"pace must be a Pace (collisim.render.pace), got {self.pace!r}")
+        if self.colors is not None:
+            self.colors = parse_colors(self.colors)
+        if self.min_fps is not None:
+            self.min_fps = checks.number("min_fps", self.min_fps, positive=True)
+
+
+    def check_colors(self, bodies: int) -> None:
+        """ValueError unless colors, when given, has one colour per body."""
+        if self.colors is not None and len(self.colors) != bodies:
+            raise ValueError(f"colors has {len(self.colors)} colours, and the world has {bodies} bodies: give one "
+                             f"colour per body")
 
 
 @dataclass

@@ -57,6 +57,27 @@ class FrameState:
     memory: dict = field(default_factory=dict)
 
 
+class Memory(dict):
+    """FrameState.memory, which notes whether it was read or written since `touched` was last
+    cleared: a still (Timeline.draw_alone) draws its frame without the frames before it only
+    when nothing drawn at that frame reads what earlier frames kept."""
+    touched = False
+
+
+def _touching(name: str):
+    method = getattr(dict, name)
+
+    def touching(self, *args, **kwargs):
+        self.touched = True
+        return method(self, *args, **kwargs)
+    return touching
+
+
+for _name in ("__getitem__", "__setitem__", "__delitem__", "__contains__", "__iter__", "__len__", "get",
+              "setdefault", "pop", "popitem", "update", "keys", "values", "items", "clear", "copy"):
+    setattr(Memory, _name, _touching(_name))
+
+
 @dataclass
 class PanelSource:
     """One panel to play: its trajectory blocks (made when the panel starts), how to draw them,
@@ -116,7 +137,7 @@ class PanelPlayer:
         self._recent = []
         self._keep_events()
         self._counters = dict.fromkeys(self.settings.counters, 0)
-        self._memory = {}   # FrameState.memory
+        self._memory = Memory()   # FrameState.memory
         self.state = None
         self.pace, self.clock = self.settings.pace, 0.0   # render/pace.py: slow motion, freezes
         # the last sample the video shows, so the HUD's last frame reads "frame N/N"
@@ -125,7 +146,9 @@ class PanelPlayer:
         # the circles' sizes and colours in pixels, once: they do not change (None: all are circles)
         circles = np.flatnonzero(self.world.shapes == CIRCLE)
         self._circles = None if len(circles) == self.world.n else circles
-        self._disc_style = raster.disc_style(self.view.length(self.world.radii[circles]), self.world.colors[circles])
+        self.settings.check_colors(self.world.n)
+        self.colors = self.world.colors if self.settings.colors is None else self.settings.colors
+        self._disc_style = raster.disc_style(self.view.length(self.world.radii[circles]), self.colors[circles])
 
     @property
     def profile(self) -> dict:
@@ -191,6 +214,16 @@ class PanelPlayer:
                           int(b.candidates[row]), int(b.pair_collisions[row]), self._collisions,
                           self.approximate_frames, past, hierarchy=b.hierarchy[row], memory=self._memory)
 
+    def rehearse(self, scratch) -> None:
+        """What the overlay and the explainer keep from this frame (state.memory), as the video
+        gives them this frame: they are called as draw calls them, over a scratch canvas."""
+        settings, state = self.settings, self.state
+        state.clock = self.clock
+        if settings.overlay is not None:
+            settings.overlay(scratch, self.view, state)
+        if settings.explainer is not None:
+            settings.explainer.draw(scratch, self.view, state, self.world, self.strips, self.unit)
+
     def draw(self, canvas) -> None:
         world, settings, state = self.world, self.settings, self.state
         if self.title:
@@ -209,12 +242,12 @@ class PanelPlayer:
         inside, corner = raster.box_region(canvas, clip)
         line = max(2, int(round(2 * self.unit)))   # survives H.264 at -ql, and grows with the frame
         if settings.trails:
-            raster.draw_trails(inside, self.view, np.array(self._history), world.colors, line, corner)
+            raster.draw_trails(inside, self.view, np.array(self._history), self.colors, line, corner)
         positions = state.positions if self._circles is None else state.positions[self._circles]
         raster.draw_styled_circles(canvas, self.view.to_pixels(positions), self._disc_style)
         if self._circles is not None:
             outlines, bodies = raster.polygon_outlines(world, state.positions, state.angles)
-            raster.draw_polygons(canvas, [self.view.to_pixels(o) for o in outlines], world.colors[bodies])
+            raster.draw_polygons(canvas, [self.view.to_pixels(o) for o in outlines], self.colors[bodies])
         if settings.flash:
             self._draw_flashes(canvas, clip, state.time)
         if settings.arrows:
@@ -287,16 +320,62 @@ class Timeline:
         self._index, self._players, self._finished = -1, [], []
 
     def draw(self, canvas, frame: int) -> None:
-        index = min(int(np.searchsorted(self.starts, frame, side="right")) - 1, len(self.chapters) - 1)
+        index, local = self._locate(frame)
         chapter = self.chapters[index]
         if index != self._index:
             for player in self._players:
                 player.close()
             self._finished.extend(self._players)
             self._index, self._players = index, make_players(chapter, self.size, self.fps)
-        local = min(frame - int(self.starts[index]), chapter.frames - 1)
         np.copyto(canvas, self.background)  # a plain copy: filling with a colour is ten times slower
         draw_frame(canvas, self._players, local)
+
+    def draw_alone(self, canvas, frame: int, step=None) -> None:
+        """Draw video frame `frame` with the same pixels as draw() would after every frame
+        before it, drawing none of them (-s, --png N): the chapters before its own are neither
+        simulated nor drawn, and its panels are simulated to the frame and visit every sample
+        on the way (trails, flashes, counters and the HUD's counts build up as in the video).
+
+        An overlay or explainer may keep what it saw at earlier frames in state.memory (the
+        moment a function first answered, ghosts of past samples). So the frame is drawn
+        first as if it were alone; a panel whose drawing read its memory is then played again
+        from its chapter's first frame, its overlay and explainer called at every frame over a
+        scratch canvas (the bodies, trails and HUD not drawn), and the frame drawn again.
+        `step(done, total)` is told of each frame rehearsed."""
+        index, local = self._locate(frame)
+        chapter = self.chapters[index]
+        self.close()
+        self._index, self._players = index, make_players(chapter, self.size, self.fps)
+        remembering = []
+        np.copyto(canvas, self.background)
+        for k, player in enumerate(self._players):
+            player.advance(local)
+            player._memory.touched = False
+            player.draw(canvas)
+            if player._memory.touched:
+                remembering.append(k)
+        if not remembering:
+            return
+        scratch = np.empty_like(canvas)
+        for k in remembering:
+            old = self._players[k]
+            old.close()
+            player = self._players[k] = PanelPlayer(old.source, old.rect, self.fps, chapter.frames)
+            for earlier in range(local):
+                player.advance(earlier)
+                player.rehearse(scratch)
+                if step is not None:
+                    step(earlier + 1, local)
+            player.advance(local)
+        np.copyto(canvas, self.background)
+        for player in self._players:   # a panel that read no memory draws the same pixels again
+            player.draw(canvas)
+
+    def _locate(self, frame: int) -> tuple:
+        """(chapter index, frame within the chapter) of a video frame; past the end, the last
+        chapter's last frame holds."""
+        index = min(int(np.searchsorted(self.starts, frame, side="right")) - 1, len(self.chapters) - 1)
+        return index, min(frame - int(self.starts[index]), self.chapters[index].frames - 1)
 
     def approximate_summary(self) -> str:
         """One line saying how many of the played frames were approximate, and why; '' if none."""

@@ -108,25 +108,17 @@ def _count(k: int) -> str:
 THEMES = palette.THEMES
 
 
-def make_theme(theme: str = "dark", background=None) -> palette.Theme:
+def make_theme(theme: str | None = None, background=None) -> palette.Theme:
     """The theme to draw with (palette.THEMES), its background replaced by `background`
-    ('#RRGGBB' or an RGB triple) when given."""
-    if theme not in THEMES:
+    ('#RRGGBB' or an RGB triple) when given. Without a theme, a background chooses the one
+    whose text reads on it (palette.theme_for: white gets the light theme's dark text), and no
+    background the dark theme."""
+    if theme is not None and theme not in THEMES:
         raise ValueError(f"unknown theme '{theme}'; choose one of: {', '.join(THEMES)}")
     if background is None:
-        return THEMES[theme]
-    if isinstance(background, str):
-        text = background.strip().lstrip("#")
-        try:
-            if len(text) != 6:
-                raise ValueError
-            return THEMES[theme].with_background(int(text[k:k + 2], 16) for k in (0, 2, 4))
-        except ValueError:
-            raise ValueError(f"background must look like #1a2b3c, got '{background}'") from None
-    rgb = tuple(int(c) for c in background)
-    if len(rgb) != 3 or not all(0 <= c <= 255 for c in rgb):
-        raise ValueError(f"background must be three values in 0..255, got {background}")
-    return THEMES[theme].with_background(rgb)
+        return THEMES[theme or "dark"]
+    rgb = palette.parse_color(background, "background")
+    return THEMES[theme or palette.theme_for(rgb)].with_background(rgb)
 
 
 COMPILING = "collisim: compiling the simulation kernels (first run only) …"
@@ -244,9 +236,9 @@ def _play(chapters, fps, frames, path, size, codec, quality, png_frame, transpar
         try:
             if png_frame is not None:
                 canvas = np.empty((size[1], size[0], 3), np.uint8)
-                for frame in range(png_frame + 1):  # walk the frames so trails, counts and chapters build up
-                    timeline.draw(canvas, frame)
-                    progress.step(png_frame + 1, path.name)
+                # simulated up to the frame, drawn alone (a panel whose overlay keeps memory replays
+                # its chapter's frames for it, drawing nothing but that overlay: the bar counts those)
+                timeline.draw_alone(canvas, png_frame, step=lambda done, total: progress.step(total, path.name))
                 write_png(path, canvas, background_bgr if transparent else None)
             else:
                 draw_seconds = 0.0

@@ -156,6 +156,9 @@ def format_render_figures(f: dict) -> str:
         f"simulate only {f['simulate_sweep_prune_seconds']:7.2f} s with sweep_prune, "
         f"{f['simulate_brute_seconds']:.2f} s with brute force pair checks",
     ]
+    if "stills" in f:
+        from .render import format_stills
+        lines.append(format_stills(f["stills"]))
     if "peak_memory_mb" in f:
         peaks = ", ".join(f"{k}: {v:.0f} MB" for k, v in f["peak_memory_mb"].items())
         lines.append(f"peak memory rendering particles_250: {peaks}")

@@ -10,6 +10,10 @@ render / floor is the overhead of everything else.
 Memory: particles_250 rendered for 30 s and for 2 minutes in fresh processes, peak resident
 memory of each; the engine streams blocks of frames, so the peak should not grow with length.
 
+Stills (`still_figures`): -s, the last frame drawn alone (render/player.py: Timeline.draw_alone),
+against the whole video it ends, in the same run: the video job at 720p, and broadphase_six at
+-ql (chapters, frozen builds, an explainer; cut to the job's length).
+
 Drawing (`drawing_ms`, `many_particles_figures`; run(drawing=True) adds both to render.json, and
 `python -m collisim.analysis.bench.render` prints them): the particles_250 size mix scaled to
 250, 25 000 and 250 000 particles (the box grows with the count, so the discs shrink from 8-18 px
@@ -109,7 +113,8 @@ def run(out_dir: Path, seconds: float = 60.0, memory: bool = True, progress: boo
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     scene = video_job(seconds)
-    steps = ["warm up", "simulate (brute)", "simulate (sweep_prune)", "render", "encode only", "memory", "drawing"]
+    steps = ["warm up", "simulate (brute)", "simulate (sweep_prune)", "render", "encode only", "stills", "memory",
+             "drawing"]
     say = (lambda step: print(f"bench render: {step}", file=sys.stderr)) if progress else (lambda step: None)
     with tempfile.TemporaryDirectory(dir=out_dir) as scratch:
         folder = Path(scratch)
@@ -126,14 +131,49 @@ def run(out_dir: Path, seconds: float = 60.0, memory: bool = True, progress: boo
         figures = {"frames": scene.frames, "size": list(SIZE), "render_seconds": wall, "split": split,
                    "encode_only_seconds": floor, "render_over_encode_only": wall / floor,
                    "simulate_brute_seconds": brute, "simulate_sweep_prune_seconds": sweep}
+        say(steps[5])
+        figures["stills"] = still_figures(folder, scene, wall)
         if memory:
-            say(steps[5])
+            say(steps[6])
             figures["peak_memory_mb"] = {"30 s": peak_memory_mb(30, folder), "120 s": peak_memory_mb(120, folder)}
         if drawing:
-            say(steps[6])
+            say(steps[7])
             figures["drawing"] = {"per_frame": drawing_ms(), "many_particles": many_particles_figures(folder)}
     write_text(out_dir / "render.json", json.dumps(figures, indent=2))
     return figures
+
+
+# --- stills ----------------------------------------------------------------------------------------
+
+def still_seconds(scene, folder: Path, size=None, quality=None) -> float:
+    """Wall seconds of -s: the scene's last frame, simulated to and drawn alone, as a PNG."""
+    start = time.perf_counter()
+    collisim.render(scene, folder / "still.png", size, quality=quality, last_frame=True)
+    return time.perf_counter() - start
+
+
+def still_figures(folder: Path, job: collisim.Scene, job_render_seconds: float) -> list:
+    """-s against the whole render it ends, each pair in this run: the video job at 720p (its
+    render timed by run), and broadphase_six at -ql rendered here, cut to the job's length when
+    that is shorter (its chapters run 83 s)."""
+    rows = [{"scene": job.name, "size": list(SIZE), "still_seconds": still_seconds(job, folder, SIZE),
+             "video_seconds": job_render_seconds}]
+    explained = collisim.load_scene("broadphase_six")
+    explained = explained.with_options(seconds=min(job.seconds, explained.seconds))
+    collisim.render(explained, folder / "warm_still.png", quality="l", png_frame=0)   # its typesetting, once
+    start = time.perf_counter()
+    collisim.render(explained, folder / "explained.mp4", quality="l")
+    video = time.perf_counter() - start
+    rows.append({"scene": explained.name, "size": [854, 480], "still_seconds": still_seconds(explained, folder,
+                                                                                            quality="l"),
+                 "video_seconds": video})
+    return rows
+
+
+def format_stills(rows: list) -> str:
+    return "\n".join(f"-s (the last frame alone) {row['scene']} at {row['size'][0]}x{row['size'][1]}: "
+                     f"{row['still_seconds']:.2f} s, its whole video {row['video_seconds']:.2f} s "
+                     f"(x{row['video_seconds'] / row['still_seconds']:.0f})" for row in rows)
 
 
 # --- drawing ----------------------------------------------------------------------------------------
