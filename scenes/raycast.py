@@ -5,6 +5,7 @@ import collisim
 from collisim import palette
 from collisim.gas import lattice_gas
 from collisim.render import raster
+from collisim.render.explain import Caption, Explainer
 
 BOX = (0.0, 0.0, 32.0, 18.0)
 SENSOR = np.array([16.0, 9.0])
@@ -82,11 +83,11 @@ class RaysOverlay:
             position = start + velocity * (state.time - start_time)
             raster.draw_lines(canvas, view, [position - velocity * self.dt], [position], palette.FLASH, 3)
             label = f"missile {launch + 1}: {MISSILE_SPEED * self.dt:.2f} units a frame, ray of one step ahead"
-        x, y = view.to_pixels([BOX[0], BOX[3]])
-        raster.draw_text(canvas, label, (x + 8, y + 20), scale=0.45, color_rgb=palette.TEXT)
+        state.memory["missile status"] = label   # shown in the caption strip above the gas (render/explain.py)
 
 
 def scene() -> collisim.Scene:
     world, fps = gas_world(), 60
-    settings = collisim.RenderSettings(overlay=RaysOverlay(world, fps), flash=False)
+    status = Explainer([Caption(lambda state: state.memory.get("missile status", ""), 0.0, None, "top")], lines=1)
+    settings = collisim.RenderSettings(overlay=RaysOverlay(world, fps), explainer=status, flash=False)
     return collisim.Scene(world=world, fps=fps, seconds=9.0, method="discrete", render=settings)
