@@ -85,4 +85,4 @@ def test_each_item_is_one_line_of_a_scene_and_draws_where_the_layout_puts_it(hea
     assert kinds.count("arrow") == 4 and kinds.count("note") == 1 and kinds.count("table") == 3
     assert all(label.fits for _, label in timeline.placed())
     rows = teach.table_rows(world, timeline._players[0].state)
-    assert rows[1].split()[:2] == ["1", f"{M1:.2f}"] and rows[2].split()[:2] == ["2", f"{M2:.2f}"]
+    assert rows[1][:2] == ["1", f"{M1:.2f}"] and rows[2][:2] == ["2", f"{M2:.2f}"]

@@ -29,14 +29,14 @@ def _bodies(world, bodies) -> list:
     return list(range(world.n)) if bodies is None else [int(b) for b in bodies]
 
 
-def velocity_arrows(world, bodies=None, seconds: float = 0.25, start=0.0, end=math.inf) -> list:
+def velocity_arrows(world, bodies=None, seconds: float = 0.5, start=0.0, end=math.inf) -> list:
     """An arrow per body from its centre to where it would be `seconds` later: its length is
     |v| * seconds (world units), labelled v1, v2, ..."""
     return [Arrow(_at(b), _ahead(b, seconds, 1.0), start, end, label=f"$v_{{{k + 1}}}$")
             for k, b in enumerate(_bodies(world, bodies))]
 
 
-def momentum_arrows(world, bodies=None, per_unit: float = 0.1, start=0.0, end=math.inf) -> list:
+def momentum_arrows(world, bodies=None, per_unit: float = 0.25, start=0.0, end=math.inf) -> list:
     """An arrow per body of its momentum m v, `per_unit` world units long per unit of momentum,
     labelled p1, p2, ..."""
     return [Arrow(_at(b), _ahead(b, per_unit, float(world.masses[b])), start, end, label=f"$p_{{{k + 1}}}$",
@@ -84,20 +84,27 @@ def momentum_energy(world, strip: str = "bottom", line: int = 0, start=0.0, end=
         found = readout(world, state)
         if found["before"] is None:
             (px, py), energy = found["now"]
-            return f"momentum $\\Sigma\\, m v$ = ({px:.2f}, {py:.2f}),  kinetic energy = {energy:.2f}"
+            return f"momentum $\\Sigma\\, m v$ = ({number(px)}, {number(py)}),  kinetic energy = {number(energy)}"
         (bx, by), before = found["before"]
         (ax, ay), after = found["after"]
-        return (f"collision: momentum ({bx:.2f}, {by:.2f}) $\\to$ ({ax:.2f}, {ay:.2f}),  "
-                f"kinetic energy {before:.2f} $\\to$ {after:.2f}")
+        return (f"collision: momentum ({number(bx)}, {number(by)}) $\\to$ ({number(ax)}, {number(ay)}),  "
+                f"kinetic energy {number(before)} $\\to$ {number(after)}")
     return Caption(text, start, end, strip, line)
 
 
+def number(value: float) -> str:
+    """Two decimals, never "-0.00"."""
+    text = f"{value:.2f}"
+    return "0.00" if text == "-0.00" else text
+
+
 def table_rows(world, state, bodies=None) -> list:
-    """The "more data" table: a header and, per body, its mass, position, velocity, momentum."""
-    rows = ["body   m      x, y           vx, vy         px, py"]
+    """The "more data" table, cells by row: a header and, per body, its mass, position,
+    velocity and momentum."""
+    rows = [["body", "m", "x", "y", "vx", "vy", "px", "py"]]
     for b in _bodies(world, bodies):
         m, (x, y), (vx, vy) = float(world.masses[b]), state.positions[b], state.velocities[b]
-        rows.append(f"{b + 1:<4} {m:6.2f}  {x:6.2f} {y:6.2f}  {vx:6.2f} {vy:6.2f}  {m * vx:6.2f} {m * vy:6.2f}")
+        rows.append([str(b + 1)] + [number(v) for v in (m, x, y, vx, vy, m * vx, m * vy)])
     return rows
 
 
@@ -110,17 +117,26 @@ def data_table(world, bodies=None, place: str = "side", start=0.0, end=math.inf)
     Drawn in OpenCV's font: its numbers change every frame, and typesetting them would too."""
     def draw(canvas, rect, view, state, unit):
         x, y, w, h = rect
-        rows = table_rows(world, state, bodies)
+        rows, pad = table_rows(world, state, bodies), explain.margin(unit)
         least = explain.placing.min_text_pixels(canvas.shape[0]) * CAP_SHARE / HERSHEY_CAP
-        scale = max(least, 0.4 * unit)
-        width = max(text_width(row, scale) for row in rows)
-        scale = max(least, min(scale, scale * (w - 2 * explain.margin(unit)) / max(width, 1)))
+        scale = max(least, 0.45 * unit)
+        # columns right-aligned, as wide as their widest cell ("-10.00" at least) and a space
+        widths = [max(text_width(cell, scale) for cell in list(column) + ["-10.00"]) + text_width("  ", scale)
+                  for column in zip(*rows)]
+        wanted = scale
+        scale = max(least, min(scale, scale * (w - 2 * pad) / sum(widths)))   # narrower to fit its column
+        widths = [width * scale / wanted for width in widths]
+        shown = max(1, int(np.searchsorted(np.cumsum(widths), w - 2 * pad, side="right")))
+        rows, widths = [row[:shown] for row in rows], widths[:shown]   # at the smallest text, the last columns go
         step = 1.8 * HERSHEY_CAP * scale
         for k, row in enumerate(rows):
-            origin = (x + explain.margin(unit), y + explain.margin(unit) + (k + 1) * step)
-            raster.draw_text(canvas, row, origin, scale=scale, color_rgb=palette.TEXT if k else palette.DIM_TEXT)
+            base = y + pad + (k + 1) * step
+            ends = x + pad + np.cumsum(widths)
+            for cell, end in zip(row, ends):
+                raster.draw_text(canvas, cell, (end, base), scale=scale, anchor="right",
+                                 color_rgb=palette.TEXT if k else palette.DIM_TEXT)
             if state.layout is not None:
-                size = (text_width(row, scale), int(round(HERSHEY_CAP * scale)))
-                state.layout.keep("table", row, (origin[0], origin[1] - size[1], *size),
-                                  scale * HERSHEY_CAP / CAP_SHARE, (0, 0, canvas.shape[1], canvas.shape[0]))
+                state.layout.keep("table", " ".join(row), (x + pad, base - HERSHEY_CAP * scale, ends[-1] - x - pad,
+                                  HERSHEY_CAP * scale), scale * HERSHEY_CAP / CAP_SHARE,
+                                  (0, 0, canvas.shape[1], canvas.shape[0]))
     return Figure(draw, start, end, place)
