@@ -20,17 +20,19 @@ def method_label(trajectory) -> str:
 
 
 def hud_lines(trajectory, frames: int, state, compact: bool = False) -> list:
-    """The panel's own clock: its sample index counts frames at the trajectory's fps. A compact
-    HUD (narrow panels) keeps the clock and the collision count."""
+    """The panel's own clock: its sample index counts frames at the trajectory's fps; this
+    frame's candidate pairs and the pairs colliding in it; the collisions of every kind so far
+    (one count a frame beside one running total would read as a contradiction). A compact HUD
+    (narrow panels) keeps the clock and the collision count."""
     flagged = [f"approximate frames: {state.approximate_frames}"] if state.approximate_frames else []
     if compact:
-        return [f"t = {state.time:5.2f} s  frame {state.sample}", f"collisions: {state.total_collisions}"] + flagged
+        return [f"t = {state.time:5.2f} s  frame {state.sample}", f"collisions so far: {state.total_collisions}"] + flagged
     lines = [f"t = {state.time:6.3f} s   frame {state.sample}/{frames} at {trajectory.fps:g} fps",
              method_label(trajectory)]
     if trajectory.world.n >= 2:
-        lines.append(f"pairs: {state.candidates} candidates, {state.pair_collisions} collisions")
+        lines.append(f"this frame: {state.candidates} candidate pairs, {state.pair_collisions} colliding")
         lines += volume_line(trajectory, state)
-    lines.append(f"collisions: {state.total_collisions}")
+    lines.append(f"collisions so far: {state.total_collisions}")
     return lines + flagged
 
 
@@ -76,7 +78,7 @@ def _rank(lines: list, line: str) -> int:
     index = lines.index(line)
     if index == 0:
         return 0
-    if line.startswith(("collisions:", "approximate")):
+    if line.startswith(("collisions so far:", "approximate")):
         return 1
     return 2 + index
 
