@@ -152,7 +152,7 @@ def test_the_hud_line_stays_inside_its_panel(size):
     from collisim.render.hud import draw_hud
     canvas = np.zeros((size[1], size[0], 3), np.uint8)
     lines = ["t =  1.233 s   frame 74/476 at 60 fps", "discrete | brute (auto)",
-             "pairs: 0 candidates, 0 collisions", "collisions: 3"]
+             "this frame: 0 candidate pairs, 0 colliding", "collisions so far: 3"]
     draw_hud(canvas, (0, 0, *size), lines, 0.55 * max(1.0, size[1] / 480))
     columns = np.flatnonzero(canvas.any(axis=(0, 2)))
     assert 0 < columns[0] and columns[-1] < size[0] - 5

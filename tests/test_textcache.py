@@ -8,7 +8,7 @@ import matplotlib
 import numpy as np
 import pytest
 
-from collisim.render import explain, textcache
+from collisim.render import explain, text, textcache
 
 
 @pytest.fixture
@@ -30,7 +30,7 @@ def test_text_typeset_once_is_read_back_the_same_without_typesetting(cache, monk
     first = explain.text_image(r"the update $p \leftarrow p + v\,\Delta t$", 17.0)
     assert [path.suffix for path in cache.iterdir()] == [".npy"]     # one file, no part file left
     explain.text_image.cache_clear()                                  # as a new process would
-    monkeypatch.setattr(explain, "typeset", no_typesetting)
+    monkeypatch.setattr(text, "typeset", no_typesetting)   # text_image lives in render/text.py
     again = explain.text_image(r"the update $p \leftarrow p + v\,\Delta t$", 17.0)
     assert again.dtype == np.float32 and np.array_equal(again, first) and first.max() > 0.5
 

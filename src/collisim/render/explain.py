@@ -32,20 +32,21 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from functools import lru_cache
 from typing import Callable, Union
 
 import cv2
 import numpy as np
 
 from .. import palette
-from . import raster, textcache
+from . import layout as placing, raster
+from .text import fit_width, paste, split_line, text_image, text_pixels, two_lines, typeset  # noqa: F401
 from ..core.checks import is_whole
 from .items import Arrow, Caption, Figure, Mark, Note, Point, check_choice
 
 BASE_HEIGHT = 480.0        # a panel this tall draws text at its base size
 CAPTION_PIXELS = 17.0      # caption text height at the base size
 NOTE_PIXELS = 14.0
+MIN_UNIT = placing.MIN_TEXT_PIXELS / NOTE_PIXELS   # the smallest text, a note's, at its least readable size
 
 
 @dataclass
@@ -115,10 +116,12 @@ class Explainer:
         """Draw every item visible at state.time. strip_rects: {"top"|"bottom": (x, y, w, h)};
         unit: the panel's scale (its height / BASE_HEIGHT); world: the panel's World (radii)."""
         self.drawn = []
-        for item in self.items:
-            alpha = self.opacity(item, state)
-            if alpha <= 0.0:
-                continue
+        layout = getattr(state, "layout", None)
+        if layout is None:   # drawn outside a player (a test's frame): the layout of this frame alone
+            layout = state.layout = placing.Layout.of_frame(view, world, state.positions, unit)
+        shown = [(item, alpha) for item in self.items if (alpha := self.opacity(item, state)) > 0.0]
+        self._obstacles(layout, view, state, [item for item, _ in shown], unit)
+        for item, alpha in shown:
             if isinstance(item, Caption):
                 self._caption(canvas, state, item, strip_rects[item.strip], unit, alpha)
             elif isinstance(item, Arrow):
@@ -132,16 +135,26 @@ class Explainer:
             elif isinstance(item, Figure):
                 self._figure(canvas, view, state, item, strip_rects[item.place], unit, alpha)
 
+    @staticmethod
+    def _obstacles(layout, view, state, items, unit) -> None:
+        """What labels keep clear of besides the box and the bodies: each shown note's point
+        with the disc of its gap (a ring the scene draws there), and each arrow's shaft."""
+        for item in items:
+            if isinstance(item, Note):
+                layout.add_discs(view.to_pixels(resolve(item.at, state)), max(float(view.length(item.gap)), 3 * unit))
+            elif isinstance(item, Arrow):
+                tail, head = view.to_pixels(resolve(item.tail, state)), view.to_pixels(resolve(item.head, state))
+                if np.all(np.isfinite(tail)) and np.all(np.isfinite(head)):
+                    layout.add_lines(tail, head, thickness(unit))
+
     def _figure(self, canvas, view, state, item, rect, unit, alpha):
         """Draw on a copy, blend it in, and record the box of the pixels it changed (what the
         tests hold to the figure's region)."""
         layer = canvas.copy()
         item.draw(layer, rect, view, state, unit)
-        changed = np.any(layer != canvas, axis=2)
-        rows, cols = np.flatnonzero(changed.any(axis=1)), np.flatnonzero(changed.any(axis=0))
-        if len(rows):
-            self.drawn.append(("figure", (int(cols[0]), int(rows[0]), int(cols[-1] - cols[0] + 1),
-                                          int(rows[-1] - rows[0] + 1)), rect))
+        changed = changed_rect(canvas, layer)
+        if changed is not None:
+            self.drawn.append(("figure", changed, rect))
         blend(canvas, layer, alpha)
 
     def _caption(self, canvas, state, item, rect, unit, alpha):
@@ -150,10 +163,14 @@ class Explainer:
         text = item.text(state) if callable(item.text) else item.text
         if not text:
             return
-        image = fit_width(text_image(text, CAPTION_PIXELS * unit), w - 2 * margin(unit))
+        typeset = text_image(text, CAPTION_PIXELS * unit)
+        image = fit_width(typeset, w - 2 * margin(unit))
         top = int(round(y + item.line * line_height + 0.5 * (line_height - image.shape[0])))
         left = int(round(x + margin(unit)))
-        self.drawn.append(("caption", paste(canvas, image, left, top, palette.TEXT, alpha), rect))
+        drawn = paste(canvas, image, left, top, palette.TEXT, alpha)
+        self.drawn.append(("caption", drawn, rect))
+        pixels = text_pixels(CAPTION_PIXELS * unit) * image.shape[1] / typeset.shape[1]
+        state.layout.keep("caption", text, drawn, pixels, rect)
 
     def _arrow(self, canvas, view, state, item, unit, alpha):
         tail, head = view.to_pixels(resolve(item.tail, state)), view.to_pixels(resolve(item.head, state))
@@ -166,7 +183,8 @@ class Explainer:
                         tipLength=min(0.3, 12.0 * unit / max(np.hypot(*(head - tail)), 1.0)))
         blend(canvas, layer, alpha)
         if item.label:
-            self._note(canvas, view, state, item.label, resolve(item.head, state), unit, alpha, item.label_gap)
+            self._note(canvas, view, state, item.label, resolve(item.head, state), unit, alpha, item.label_gap,
+                       kind="arrow")
 
     def _mark(self, canvas, view, state, radii, item, unit, alpha):
         labels = item.labels or tuple(str(k + 1) for k in range(len(item.bodies)))
@@ -178,25 +196,64 @@ class Explainer:
             layer = canvas.copy()
             raster.draw_rings(layer, centre[None], [radius + 3.0 * unit], palette.HIGHLIGHT, thickness(unit))
             blend(canvas, layer, alpha)
-            image = text_image(label, NOTE_PIXELS * unit)
-            offset = (radius + 4.0 * unit) / math.sqrt(2.0)   # up, and left or right, beside the body
-            left = int(round(centre[0] + offset if away > 0 else centre[0] - offset - image.shape[1]))
-            top = int(round(centre[1] - offset - image.shape[0]))
-            self.drawn.append(("mark", paste(canvas, image, left, top, palette.HIGHLIGHT, alpha), view.rect))
+            placed, image = place_text(state.layout, label, NOTE_PIXELS * unit, centre, "mark",
+                                       gap=radius + 4.0 * unit, first=(int(away), -1))   # up, beside the body
+            self._label(canvas, placed, image, unit, palette.HIGHLIGHT, alpha)
 
-    def _note(self, canvas, view, state, text, at, unit, alpha, gap=0.0, dot=False):
-        """Text to the right of a world point, `gap` world units away, centred on its height;
-        with `dot`, the point itself is marked."""
+    def _note(self, canvas, view, state, text, at, unit, alpha, gap=0.0, dot=False, kind="note"):
+        """Text beside a world point, `gap` world units away, where the frame's layout finds
+        room (to its right, centred on its height, when that is free); with `dot`, the point
+        itself is marked."""
         x, y = view.to_pixels(at)
         if dot:
             layer = canvas.copy()
             cv2.circle(layer, (int(round(x)), int(round(y))), max(2, int(round(3 * unit))),
                        raster.bgr(palette.HIGHLIGHT), -1, cv2.LINE_AA)
             blend(canvas, layer, alpha)
-        image = text_image(text, NOTE_PIXELS * unit)
-        left = int(round(x + float(view.length(gap)) + 6 * unit))
-        top = int(round(y - 0.5 * image.shape[0]))
-        self.drawn.append(("note", paste(canvas, image, left, top, palette.TEXT, alpha), view.rect))
+        placed, image = place_text(state.layout, text, NOTE_PIXELS * unit, (x, y), kind,
+                                   gap=float(view.length(gap)) + 4 * unit)
+        self._label(canvas, placed, image, unit, palette.TEXT, alpha)
+
+    def _label(self, canvas, placed, image, unit, color, alpha) -> None:
+        """Paste a placed label, with a leader line from its point when it sits far from it."""
+        left, top = placed.rect[:2]
+        if placed.leader:
+            start = np.array(placed.anchor, float)
+            end = placing.nearest_point(placed.rect, start)
+            layer = canvas.copy()
+            raster.draw_lines_px(layer, [start], [end], palette.DIM_TEXT, max(1, int(round(unit))))
+            blend(canvas, layer, alpha)
+        self.drawn.append((placed.kind, paste(canvas, image, left, top, color, alpha), placed.bound))
+
+
+def status(canvas, state, text: str, color=None) -> tuple:
+    """A status line an overlay writes (what its structure is doing), at a note's size where the
+    frame's layout finds room, nearest the top-left corner, clear of the box and the bodies.
+    Returns its rectangle."""
+    layout = state.layout
+    pixels = NOTE_PIXELS * layout.unit
+    image = text_image(text, pixels)
+    placed = layout.status(image.shape[::-1], "status", text, text_pixels(pixels))
+    return paste(canvas, image, placed.rect[0], placed.rect[1], color or palette.TEXT, 1.0)
+
+
+def place_text(layout, text: str, pixels: float, anchor, kind: str, gap: float = 0.0, first=None) -> tuple:
+    """(Placed, coverage) of a label naming `anchor`: on one line where the layout finds room
+    for it near its point, else on two lines if that finds room nearer (a long note beside a
+    narrow box), else where the one line met the fewest obstacles."""
+    image = text_image(text, pixels)
+    placed = layout.place(image.shape[::-1], anchor, kind, text, text_pixels(pixels), gap, first)
+    halves = split_line(text)
+    if (placed.fits and not placed.leader) or halves is None:
+        return placed, image
+    layout.placed.remove(placed)
+    wrapped = two_lines(*halves, pixels)
+    again = layout.place(wrapped.shape[::-1], anchor, kind, text, text_pixels(pixels), gap, first)
+    if again.fits and (again.leader <= placed.leader or not placed.fits):
+        return again, wrapped
+    layout.placed.remove(again)
+    layout.placed.append(placed)
+    return placed, image
 
 
 def moment(value, state) -> float:
@@ -214,11 +271,13 @@ def resolve(point: Point, state) -> np.ndarray:
 STRIPS_SHARE = 0.4         # caption strips take at most this share of a panel's height
 
 
-def panel_unit(height: float, room: float = math.inf, lines: int = 0) -> float:
-    """The scale of a panel `height` pixels tall: 1 at BASE_HEIGHT, not below 0.75 (smaller text
-    stops being readable) unless its `lines` caption lines would then take more than
-    STRIPS_SHARE of the `room` between its title and HUD (a thumbnail-sized render)."""
-    unit = max(0.75, height / BASE_HEIGHT)
+def panel_unit(height: float, room: float = math.inf, lines: int = 0, frame_height: float = BASE_HEIGHT) -> float:
+    """The scale of a panel `height` pixels tall in a frame `frame_height` tall: 1 at
+    BASE_HEIGHT, not below MIN_UNIT of the frame's own scale (smaller text stops being readable:
+    a panel of a 1080p frame is seen at the frame's size), unless its `lines` caption lines would
+    then take more than STRIPS_SHARE of the `room` between its title and HUD (a thumbnail-sized
+    render)."""
+    unit = max(MIN_UNIT * max(frame_height, BASE_HEIGHT) / BASE_HEIGHT, height / BASE_HEIGHT)
     if lines and lines * line_height(unit) > STRIPS_SHARE * room:
         unit = max(STRIPS_SHARE * room / lines / (1.7 * CAPTION_PIXELS), 0.05)
     return unit
@@ -237,62 +296,6 @@ def thickness(unit: float) -> int:
     return max(1, int(round(1.6 * unit)))
 
 
-@lru_cache(maxsize=512)
-def text_image(text: str, pixels: float) -> np.ndarray:
-    """The coverage (h, w) float32 in [0, 1] of `text` typeset by mathtext at about `pixels`
-    tall, cached: a caption is typeset once, not every frame, and kept on disk for the runs
-    after (textcache.py)."""
-    size = max(4.0, round(pixels * 2.0) / 2.0)   # half-pixel steps keep the cache small
-    kept = textcache.path(text, size)   # (named once: a digest of matplotlib's settings)
-    ink = textcache.load(kept)
-    if ink is None:
-        ink = typeset(text, size)
-        textcache.save(kept, ink)
-    return ink.astype(np.float32) / 255.0
-
-
-def typeset(text: str, size: float) -> np.ndarray:
-    """The coverage (h, w) uint8 of text typeset by mathtext at size points (72 dpi).
-
-    mathtext's own rasterizer gives the coverage directly, with all of the ink. Drawing the text
-    on a matplotlib Figure and decoding its PNG, as before, imported matplotlib's figure
-    machinery (0.2-0.3 s of a first frame) and cut off glyphs that stand out of their advance
-    (a T's left arm; a last letter, which took a trailing space to keep)."""
-    from matplotlib.font_manager import FontProperties
-    from matplotlib.mathtext import MathTextParser
-    try:
-        image = MathTextParser("agg").parse(text, dpi=72, prop=FontProperties(size=size)).image
-    except ValueError as error:   # matplotlib's message spans lines: its last one says what is wrong
-        lines = [line.strip() for line in str(error).splitlines() if line.strip()]
-        why = (lines[-1] if lines else str(error)).removeprefix("ParseException: ")
-        raise ValueError(f"text {text!r} is not valid mathtext (an odd number of $ signs, or an unknown "
-                         f"command): {why}") from None
-    return np.array(image, np.uint8)
-
-
-def fit_width(image: np.ndarray, width: float) -> np.ndarray:
-    """Shrink text that would not fit its strip (a long caption in a narrow panel)."""
-    if image.shape[1] <= width or width < 8:
-        return image
-    scale = width / image.shape[1]
-    size = (max(1, int(width)), max(1, round(image.shape[0] * scale)))   # (a short line: the nearest pixel)
-    return cv2.resize(image, size, interpolation=cv2.INTER_AREA)
-
-
-def paste(canvas, coverage: np.ndarray, left: int, top: int, color_rgb, alpha: float) -> tuple:
-    """Paint `color_rgb` through `coverage` (h, w) at (left, top), clipped to the canvas.
-    Returns the rectangle (x, y, w, h) of the text, unclipped (for the tests' bounds check)."""
-    h, w = coverage.shape
-    x0, y0 = max(left, 0), max(top, 0)
-    x1, y1 = min(left + w, canvas.shape[1]), min(top + h, canvas.shape[0])
-    if x1 > x0 and y1 > y0:
-        weight = alpha * coverage[y0 - top:y1 - top, x0 - left:x1 - left, None]
-        region = canvas[y0:y1, x0:x1].astype(np.float32)
-        color = np.array(raster.bgr(color_rgb), np.float32)
-        canvas[y0:y1, x0:x1] = (region + weight * (color - region) + 0.5).astype(np.uint8)
-    return (left, top, w, h)
-
-
 def image_figure(make_image: Callable) -> Callable:
     """A Figure's draw that shows the RGB uint8 image `make_image(state)` (made once, at the
     first draw, e.g. a matplotlib chart of that frame), scaled to fit its region, centred."""
@@ -308,6 +311,18 @@ def image_figure(make_image: Callable) -> Callable:
         left, top = x + (w - size[0]) // 2, y + (h - size[1]) // 2
         canvas[top:top + size[1], left:left + size[0]] = fitted
     return draw
+
+
+def changed_rect(before, after):
+    """The rectangle (x, y, w, h) of the pixels that differ between two BGR images, or None.
+    OpenCV's difference and bounding box of its non-zero bytes (a row of w pixels read as 3w
+    bytes): comparing in numpy and reducing over the colour axis took most of a 1080p frame's time."""
+    height, width = before.shape[:2]
+    x, y, w, h = cv2.boundingRect(cv2.absdiff(before, after).reshape(height, width * 3))
+    if w == 0:
+        return None
+    left, right = x // 3, (x + w - 1) // 3
+    return (left, y, right - left + 1, h)
 
 
 def blend(canvas, layer, alpha: float) -> None:

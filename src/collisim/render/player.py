@@ -20,6 +20,7 @@ from ..model.scene import RenderSettings
 from ..model.trajectory import Events, PastEvents, approximate_summary
 from . import explain, raster
 from .hud import draw_hud, hud_lines
+from .layout import CAP_SHARE, HERSHEY_CAP, Layout, Placed, min_text_pixels
 from .view import View
 
 TITLE_HEIGHT = 36
@@ -38,6 +39,8 @@ class FrameState:
     with no overlay, explainer or counters, only those of the sample's block); counters: the
     running RenderSettings.counters; hierarchy (4,): the sample's pairs passing each bounding
     volume level (Trajectory.hierarchy), or None;
+    layout: where this frame's labels go (render/layout.py): an overlay or figure that writes
+    text places it there, clear of the box, the bodies and the labels placed before;
     memory: a dict kept for the panel's whole play (the same at every sample, new for every
     play), where an explainer keeps the moments its functions answered first and a scene's
     functions may keep what they read once (a velocity at the impact's sample)."""
@@ -55,6 +58,7 @@ class FrameState:
     clock: float = 0.0   # seconds of video into the panel (differs from time in slow motion and freezes)
     hierarchy: np.ndarray = None
     memory: dict = field(default_factory=dict)
+    layout: object = None
 
 
 class Memory(dict):
@@ -100,11 +104,15 @@ class Chapter:
 class PanelPlayer:
     """Plays one panel's trajectory into a rectangle of the canvas."""
 
-    def __init__(self, source: PanelSource, rect: tuple, video_fps: float, video_frames: int | None = None):
+    def __init__(self, source: PanelSource, rect: tuple, video_fps: float, video_frames: int | None = None,
+                 frame_height: int | None = None):
         self.source, self.settings, self.title, self.video_fps = source, source.settings, source.title, video_fps
         self.rect = rect
         left, top, width, height = rect
-        self.grow = max(1.0, height / explain.BASE_HEIGHT)   # title and HUD grow with tall panels (-qh, 4K)
+        # title and HUD grow with tall panels and with the frame (a panel of a 1080p frame is seen
+        # at the frame's size, so it draws as the same panel of a 480p frame, scaled)
+        frame_height = height if frame_height is None else frame_height
+        self.grow = max(1.0, height / explain.BASE_HEIGHT, frame_height / explain.BASE_HEIGHT)
         title_height = int(round(TITLE_HEIGHT * self.grow)) if self.title else 0
         hud_height = int(round(HUD_HEIGHT * self.grow)) if self.settings.hud else 0
         self.content = (left, top + title_height, width, height - title_height)
@@ -116,7 +124,7 @@ class PanelPlayer:
         # an explainer's caption strips sit above and below the simulation, never over it
         top_lines, bottom_lines = self.settings.explainer.strips() if self.settings.explainer else (0, 0)
         room = height - title_height - hud_height
-        self.unit = explain.panel_unit(height, room, top_lines + bottom_lines)
+        self.unit = explain.panel_unit(height, room, top_lines + bottom_lines, frame_height)
         top_h = top_lines * explain.line_height(self.unit)
         bottom_h = bottom_lines * explain.line_height(self.unit)
         self.strips = {"top": (left, top + title_height, width, top_h),
@@ -127,7 +135,10 @@ class PanelPlayer:
         self.strips["side"] = (left + width - side, top + title_height + top_h, side, middle)
         self.view = View(self.world.box, (left, top + title_height + top_h, width - side, middle))
         self.strips["box"] = self.view.rect   # figures drawn over the simulation itself
-        self.text_scale = max(0.38, min(0.55, width / 1280 * 0.8)) * self.grow
+        # the HUD's smallest readable scale (render/layout.py): it drops items before going below
+        self.least_scale = min_text_pixels(frame_height) * CAP_SHARE / HERSHEY_CAP
+        self.text_scale = max(self.least_scale, max(0.38, min(0.55, width / self.grow / 1280 * 0.8)) * self.grow)
+        self.layout, self.hud = None, None   # this frame's labels, and the HUD's (text, rectangle, scale)
         self._first, self._sample, self._collisions, self.approximate_frames = 0, -1, 0, 0
         self._history = deque(maxlen=max(self.settings.trails, 1))
         # the run's events so far, for what reads state.events (overlays, explainers, counters);
@@ -254,13 +265,30 @@ class PanelPlayer:
             raster.draw_arrows(inside, self.view, state.positions, state.velocities, settings.arrow_seconds,
                                world.radii, thickness=line, offset=corner, box=world.box)
         state.clock = self.clock   # overlays and explainers may follow the video's clock (freezes)
+        self.layout = state.layout = self._layout(state)
         if settings.overlay is not None:
             settings.overlay(canvas, self.view, state)
         if settings.explainer is not None:
             settings.explainer.draw(canvas, self.view, state, world, self.strips, self.unit)
         if settings.hud:
             lines = hud_lines(self._block, self.last_sample, state, compact=self.rect[2] < 800)
-            draw_hud(canvas, self.content, lines, self.text_scale)
+            self.hud = draw_hud(canvas, self.content, lines, self.text_scale, self.least_scale)
+
+    def _layout(self, state) -> Layout:
+        """The frame's layout: with the box, the segments and the bodies as obstacles for a
+        panel whose overlay or explainer may place labels; else empty (nothing is placed)."""
+        if self.settings.overlay is None and self.settings.explainer is None:
+            return Layout(self.view.rect)
+        return Layout.of_frame(self.view, self.world, state.positions, self.unit)
+
+    @property
+    def placed(self) -> list:
+        """The labels of the frame drawn last (render/layout.py's Placed), and its HUD's line."""
+        labels = list(self.layout.placed) if self.layout is not None else []
+        if self.hud is not None:
+            text, rect, scale = self.hud
+            labels.append(Placed("hud", text, rect, None, scale * HERSHEY_CAP / CAP_SHARE, self.content))
+        return labels
 
     def _flashing(self, blocks: list) -> list:
         """The blocks of events that may still flash when the next block starts: those with an
@@ -299,7 +327,8 @@ def panel_rects(count: int, size: tuple, layout=None) -> list:
 
 def make_players(chapter: Chapter, size: tuple, video_fps: float) -> list:
     rects = panel_rects(len(chapter.panels), size, chapter.layout)
-    return [PanelPlayer(source, rect, video_fps, chapter.frames) for source, rect in zip(chapter.panels, rects)]
+    return [PanelPlayer(source, rect, video_fps, chapter.frames, size[1])
+            for source, rect in zip(chapter.panels, rects)]
 
 
 def draw_frame(canvas, players: list, frame: int) -> None:
@@ -376,6 +405,10 @@ class Timeline:
         chapter's last frame holds."""
         index = min(int(np.searchsorted(self.starts, frame, side="right")) - 1, len(self.chapters) - 1)
         return index, min(frame - int(self.starts[index]), self.chapters[index].frames - 1)
+
+    def placed(self) -> list:
+        """(panel player, Placed) for every label of the frame drawn last (the tests' geometry)."""
+        return [(player, label) for player in self._players for label in player.placed]
 
     def approximate_summary(self) -> str:
         """One line saying how many of the played frames were approximate, and why; '' if none."""

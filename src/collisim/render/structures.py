@@ -59,7 +59,8 @@ def sweep_lanes(canvas, rect, view, intervals, order, shown: int, active, curren
     sorted order top to bottom: the first `shown` of the sorted list, those in `active` in their
     colour and the rest dimmed, the span of the active list outlined (if `outline`), and the sweep line at the
     start of box `current` (None: no sweep line)."""
-    x, y, w, h = rect
+    inset = int(round(0.5 * explain.margin(unit)))   # clear of the strip's edges (the frame's, under a lane)
+    x, y, w, h = rect[0], rect[1] + inset, rect[2], rect[3] - 2 * inset
     lane = h / max(len(order), 1)
     line = max(2, int(round(0.45 * lane)))
     ends = view.to_pixels(np.column_stack([intervals.ravel(), np.zeros(intervals.size)]))[:, 0].reshape(-1, 2)

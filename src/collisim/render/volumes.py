@@ -18,6 +18,7 @@ from .. import palette
 from ..model.trajectory import LEVELS, NOT_COUNTED
 from ..engine.hierarchy import CX, CY, HALF_H, HALF_W, UX, UY, XMAX, XMIN, YMAX, YMIN, hierarchy, volumes_of
 from . import explain, raster
+from .layout import nearest_point
 from .structures import width
 
 # the volumes' colours, coarsest first (the shapes themselves keep their own)
@@ -71,13 +72,14 @@ def _draw_volumes(frame, frame_view, world, state, unit) -> None:
         if len(chosen):
             ends = state.positions[chosen]
             raster.draw_lines(canvas, view, ends[:, 0], ends[:, 1], FALSE_POSITIVE, width(unit, 1.25))
-            for i, j in chosen:
-                middle = view.to_pixels(0.5 * (state.positions[i] + state.positions[j]))
-                _tag(canvas, SHORT[level - 1], middle, unit, COLORS[level - 1])
     touching = pairs[levels == 4]
     if len(touching):
         ends = state.positions[touching]
         raster.draw_lines(canvas, view, ends[:, 0], ends[:, 1], palette.HIGHLIGHT, width(unit, 1.25))
+    for level in (1, 2, 3):   # the tags last, over the lines, each where the frame's layout finds room
+        for i, j in pairs[levels == level]:
+            middle = frame_view.to_pixels(0.5 * (state.positions[i] + state.positions[j]))
+            _tag(frame, state.layout, SHORT[level - 1], middle, unit, COLORS[level - 1])
 
 
 def _oriented_boxes(canvas, view, volumes, color, thickness: int) -> None:
@@ -92,11 +94,17 @@ def _oriented_boxes(canvas, view, volumes, color, thickness: int) -> None:
     raster.draw_lines(canvas, view, corners.reshape(-1, 2), following.reshape(-1, 2), color, thickness)
 
 
-def _tag(canvas, text: str, centre_px, unit: float, color) -> None:
-    image = explain.text_image(text, 0.85 * explain.NOTE_PIXELS * unit)
-    left = int(round(centre_px[0] - image.shape[1] / 2))
-    top = int(round(centre_px[1] - image.shape[0] - 3 * unit))
-    explain.paste(canvas, image, left, top, color, 1.0)
+def _tag(canvas, layout, text: str, centre_px, unit: float, color) -> None:
+    """A false positive's tag near the middle of its pair, clear of the shapes and other tags
+    (above the middle when that is free), with a leader line when moved far."""
+    pixels = explain.NOTE_PIXELS * unit
+    image = explain.text_image(text, pixels)
+    placed = layout.place(image.shape[::-1], centre_px, "tag", text, explain.text_pixels(pixels), gap=3 * unit,
+                          first=(0, -1))
+    if placed.leader:
+        start = np.asarray(centre_px, float)
+        raster.draw_lines_px(canvas, [start], [nearest_point(placed.rect, start)], color, max(1, int(round(unit))))
+    explain.paste(canvas, image, placed.rect[0], placed.rect[1], color, 1.0)
 
 
 def funnel_figure(canvas, rect, view, state, unit) -> None:
@@ -109,22 +117,27 @@ def funnel_figure(canvas, rect, view, state, unit) -> None:
     pad = explain.margin(unit)
     row = (h - 3 * pad) / (len(LEVELS) + 1)
     room = w - 2 * pad
-    _text(canvas, "the funnel, all frames so far", x + pad, y + pad, unit, palette.TEXT, room)
+    _text(canvas, "the funnel, all frames so far", x + pad, y + pad, unit, palette.TEXT, room, state.layout, rect)
     for k, level in enumerate(LEVELS):
         top = y + 2 * pad + (k + 1) * row
         false = 1.0 - totals[3] / totals[k] if totals[k] else math.nan
         share = totals[k] / totals[0] if totals[0] else 0.0
         color = COLORS[k] if k < 3 else palette.HIGHLIGHT
-        _text(canvas, f"{level}: {totals[k]}", x + pad, top - 0.55 * row, unit, color, room)
+        _text(canvas, f"{level}: {totals[k]}", x + pad, top - 0.55 * row, unit, color, room, state.layout, rect)
         bar = max(share * room, 1.0)
         raster.draw_rect_px(canvas, (x + pad, top - 0.2 * row), (x + pad + bar, top + 0.05 * row), color, -1)
         note = f"now {now[k]}" if now[k] != NOT_COUNTED else ""
         if k < 3 and not math.isnan(false):
             note += f", {false:.0%} false positives"
-        _text(canvas, note, x + pad, top + 0.12 * row, unit, palette.DIM_TEXT, room)
+        _text(canvas, note, x + pad, top + 0.12 * row, unit, palette.DIM_TEXT, room, state.layout, rect)
 
 
-def _text(canvas, text: str, left: float, top: float, unit: float, color, room: float) -> None:
+def _text(canvas, text: str, left: float, top: float, unit: float, color, room: float, layout, bound) -> None:
+    """A line of the funnel, shrunk to its room, and kept in the frame's layout (measured)."""
     if text:
-        image = explain.fit_width(explain.text_image(text, 0.85 * explain.NOTE_PIXELS * unit), room)
-        explain.paste(canvas, image, int(round(left)), int(round(top)), color, 1.0)
+        pixels = explain.NOTE_PIXELS * unit
+        typeset = explain.text_image(text, pixels)
+        image = explain.fit_width(typeset, room)
+        rect = explain.paste(canvas, image, int(round(left)), int(round(top)), color, 1.0)
+        if layout is not None:
+            layout.keep("funnel", text, rect, explain.text_pixels(pixels) * image.shape[1] / typeset.shape[1], bound)
