@@ -56,11 +56,13 @@ ITERATIONS = 20   # sweeps of the contact solver per step (response/solver.py)
 Bodies = namedtuple("Bodies", ["shapes", "positions", "velocities", "angles", "angular_velocities",
                                "accelerations", "radii", "masses", "inertias", "vertex_start", "body_vertices"])
 Statics = namedtuple("Statics", ["box", "segments", "index", "map", "restitution", "rest_speed", "iterations",
-                                 "friction", "volumes", "pulled"], defaults=(0.0, ITERATIONS, 0.0, None, None))
+                                 "friction", "volumes", "pulled", "keep"],
+                     defaults=(0.0, ITERATIONS, 0.0, None, None, 1.0))
 Statics.__doc__ = """What bodies meet besides each other: box (4,), segments (m, 4) and their index, the
 collision map's field (index and map None when the world has none: see statics_paths.py); and
 how contacts respond: restitution e, the rest speed below which a contact rests instead of
-bouncing, the solver's sweeps per step, and the friction coefficient; volumes True for a world
+bouncing, the solver's sweeps per step, and the friction coefficient; keep: the fraction of its
+velocity a body keeps over a step (World.damping ** dt, 1 without damping); volumes True for a world
 with polygons, whose frames count the bounding-volume funnel (narrowphase/hierarchy.py) and
 whose contact phases compile the polygon paths (narrowphase/manifold.py), else None; pulled True
 where a body has an acceleration, else None: with nothing pulling the hold (response/hold.py)
@@ -254,7 +256,7 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
                                            push_turn, shift, shift_turn, s.pulled)   # > 0: held (hold.py)
                 out.approximate[frame] = out.approximate[frame] or propped > 0   # momentum is not exact
             t = _lap(phase_cycles, RESPONSE, t)
-            integrate(b.positions, b.velocities, b.accelerations, b.angles, b.angular_velocities, dt)
+            integrate(b.positions, b.velocities, b.accelerations, b.angles, b.angular_velocities, dt, s.keep)
             if count > 0:
                 add_contact_motion(b, rows, count, push, push_turn, shift, shift_turn, dt, moved)
             t = _lap(phase_cycles, INTEGRATE, t)
@@ -343,7 +345,8 @@ class DiscreteStepper:
         pull = float(np.max(np.hypot(w.accelerations[:, 0], w.accelerations[:, 1]))) if w.n else 0.0
         volumes = True if np.any(w.shapes != CIRCLE) else None
         self.statics = Statics(w.box, w.segments, index, field, float(w.restitution), 2.0 * pull * self.dt,
-                               ITERATIONS, float(w.friction), volumes, True if pull > 0.0 else None)
+                               ITERATIONS, float(w.friction), volumes, True if pull > 0.0 else None,
+                               float(w.damping) ** self.dt)
         self.memory = no_memory()
         # room for contacts grows with what a step finds (rows are zeroed, so room held for 8
         # contacts a body cost 0.8 GB at a million bodies)

@@ -22,7 +22,8 @@ TOUCH_TOLERANCE = 1e-9   # relative to the contact distance
 
 def check_scene(scene, methods) -> None:
     """ValueError for the first thing in scene (its panels and chapters included) that the
-    engine cannot run: a method not in `methods`, an unknown broad phase, bodies that overlap."""
+    engine cannot run: a method not in `methods`, an unknown broad phase, damping under ccd,
+    bodies that overlap."""
     for part in (*(panel.scene for panel in scene.panels), *scene.chapters):
         check_scene(part, methods)
     if scene.method not in methods:
@@ -31,6 +32,9 @@ def check_scene(scene, methods) -> None:
         raise ValueError(f"unknown broad phase {scene.broadphase!r}; choose one of: auto, "
                          f"{', '.join(BROAD_PHASES)}")
     if scene.world is not None:
+        if scene.method == "ccd" and scene.world.damping < 1.0:
+            raise ValueError(f"ccd moves bodies exactly along parabolas between events and does not model damping "
+                             f"(damping={scene.world.damping:g}); use the discrete method")
         no_overlaps(scene.world)
 
 

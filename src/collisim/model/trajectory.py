@@ -205,7 +205,7 @@ class Trajectory:
         arrays.update(world_vertex_start=self.world.vertex_start, world_body_vertices=self.world.body_vertices)
         if self.world.map is not None:
             arrays.update({f"map_{name}": value for name, value in self.world.map.to_arrays().items()})
-        meta = dict(format=FILE_FORMAT, friction=self.world.friction, fps=self.fps, method=self.method,
+        meta = dict(format=FILE_FORMAT, friction=self.world.friction, damping=self.world.damping, fps=self.fps, method=self.method,
                     broadphase=self.broadphase,
                     substeps=self.substeps, restitution=self.world.restitution, profile=self.profile,
                     warnings=[str(w) for w in self.warnings], storage=self.storage)
@@ -240,7 +240,7 @@ def load_trajectory(path) -> Trajectory:
     try:
         world = World(**{name: arrays[f"world_{name}"] for name in _WORLD_FIELDS}, restitution=meta["restitution"],
                       map=_embedded_map(arrays, path), polygons=_polygons(arrays),
-                      friction=meta.get("friction", 0.0))
+                      friction=meta.get("friction", 0.0), damping=meta.get("damping", 1.0))
         events = Events(*(arrays[f"event_{name}"] for name in _EVENT_FIELDS))
         frames = {name: arrays[f"frame_{name}"] for name in _FRAME_FIELDS if name != "hierarchy"}
         frames["hierarchy"] = arrays.get("frame_hierarchy")   # None in files from before it: NOT_COUNTED

@@ -41,12 +41,15 @@ class World:
     segments: (m, 4)             thin segments x0, y0, x1, y1 with no thickness
     map: a CollisionMap or None  a level made from an image (statics/collision_map.py)
     restitution: e in [0, 1] for every contact (1 = elastic)
+    damping: d in [0, 1], the fraction of its velocity (linear and angular) a body keeps after
+                                 one second of free motion, as pymunk's Space.damping (1 = none);
+                                 the discrete method applies d**dt every step, ccd does not model it
     """
 
     def __init__(self, positions, velocities=None, radii=1.0, masses=None, *,
                  box=(0.0, 0.0, 10.0, 10.0), gravity=(0.0, 0.0), accelerations=None,
                  colors=None, restitution: float = 1.0, segments=None, angles=0.0,
-                 angular_velocities=0.0, map=None, polygons=None, friction: float = 0.0):
+                 angular_velocities=0.0, map=None, polygons=None, friction: float = 0.0, damping: float = 1.0):
         self.positions = checks.positions_array(positions)
         n = len(self.positions)
         table = shape_table(polygons, n)
@@ -77,6 +80,7 @@ class World:
         if restitution is None:
             raise ValueError("restitution must be a number in [0, 1], got None")
         self.restitution = checks.number("restitution", restitution, low=0.0, high=1.0)
+        self.damping = checks.number("damping", damping, low=0.0, high=1.0)
         self.colors = default_colors(self.radii) if colors is None else np.array(colors, dtype=np.uint8).reshape(n, 3)
         self.validate()
 
@@ -192,7 +196,7 @@ class World:
                       box=self.box, gravity=self.gravity, accelerations=self.accelerations, colors=self.colors,
                       restitution=self.restitution, segments=self.segments, angles=self.angles,
                       angular_velocities=self.angular_velocities, map=self.map, polygons=self.polygons,
-                      friction=self.friction)
+                      friction=self.friction, damping=self.damping)
         if "gravity" in changes and "accelerations" not in changes:
             fields["accelerations"] = None   # every body follows the new gravity
         fields.update(changes)

@@ -64,6 +64,7 @@ class PlainPymunk:
     def __init__(self, world):
         self.world = world
         self.space = pymunk.Space()
+        self.space.damping = float(world.damping)
         uniform = world.uniform_acceleration
         if uniform:
             self.space.gravity = tuple(float(a) for a in (world.accelerations[0] if world.n else world.gravity))

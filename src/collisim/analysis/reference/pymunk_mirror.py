@@ -198,7 +198,7 @@ class _Recorder:
 def _new_space(world, iterations: int) -> pymunk.Space:
     space = pymunk.Space()
     space.iterations = iterations
-    space.damping = 1.0
+    space.damping = float(world.damping)
     smallest = float(world.radii.min()) if world.n else 1.0
     space.collision_slop = SLOP_PER_RADIUS * smallest
     space.collision_bias = COLLISION_BIAS
