@@ -79,7 +79,7 @@ class RaysOverlay:
         self.world, self.dt = world, 1.0 / fps
 
     def __call__(self, canvas, view, state):
-        origins, directions, found = sensor_rays(self.world, state)
+        origins, directions, found, _ = sensor_rays(self.world, state)
         hit = np.isfinite(found.distance)
         ends = np.where(hit[:, None], found.points, origins + REACH * directions)
         raster.draw_lines(canvas, view, origins[~hit], ends[~hit], palette.DIM_TEXT, 1)
@@ -106,32 +106,57 @@ class RaysOverlay:
 
 
 def sensor_rays(world, state):
-    """The sensor's rays at this sample: origins, directions and the query's RayHits, asked once
-    a sample (the overlay draws them, a caption counts them)."""
+    """The sensor's rays at this sample: where each starts, its direction, the query's RayHits
+    and the particle the sensor sits in (-1 for none), asked once a sample (the overlay draws
+    them, a caption counts them). Particles drift over the sensor: a ray that starts inside one
+    has no surface in front of it, and the query says so (inside, distance 0, normal (0, 0)).
+    As its documentation suggests, such rays step out where they leave the particle and are
+    cast again from there for what lies beyond."""
     kept = state.memory.get("sensor")
     if kept is None or kept[0] != state.sample:
         directions = sensor_fan(state.time)
-        origins = np.repeat(SENSOR[None], RAYS, axis=0)
-        found = collisim.raycast_many(world, origins, directions, REACH, positions=state.positions)
-        kept = state.memory["sensor"] = (state.sample, origins, directions, found)
+        starts = np.repeat(SENSOR[None], RAYS, axis=0)
+        found = collisim.raycast_many(world, starts, directions, REACH, positions=state.positions)
+        inside = found.inside & (found.kinds == found.KIND_NAMES.index("body"))
+        holder = int(found.indices[inside][0]) if inside.any() else -1
+        if inside.any():
+            centre, radius = state.positions[holder], world.radii[holder]
+            offset = SENSOR - centre
+            along = directions[inside] @ offset
+            # where the ray leaves it, and a billionth of a radius beyond: rounded onto the circle
+            # a start may still fall inside it
+            out = -along + np.sqrt(along ** 2 - (offset @ offset - radius ** 2)) + 1e-9 * radius
+            starts[inside] = SENSOR + out[:, None] * directions[inside]
+            found = collisim.raycast_many(world, starts, directions, REACH - np.where(inside, out, 0.0),
+                                          positions=state.positions)
+        kept = state.memory["sensor"] = (state.sample, starts, directions, found, holder)
     return kept[1:]
 
 
 def sensor_status(world):
-    """The query's own answers this frame: how many rays hit a particle or a wall, one hit's
-    point and normal, and how many particles the broad phase handed to the exact test."""
+    """The query's own answers this frame: how many rays hit a particle or a wall, and how many
+    particles the broad phase handed to the exact test."""
     def text(state):
-        _, _, found = sensor_rays(world, state)
-        bodies = np.flatnonzero(found.kinds == found.KIND_NAMES.index("body"))
+        _, _, found, holder = sensor_rays(world, state)
+        bodies = int(np.sum(found.kinds == found.KIND_NAMES.index("body")))
         walls = int(np.sum(found.kinds == found.KIND_NAMES.index("wall")))
-        seen = f"sensor: of {RAYS} rays, {len(bodies)} hit a particle, {walls} a wall"
-        tests = f"exact tests: {int(found.tested.sum())} (every particle: {RAYS * world.n})"
+        inside = f"in particle {holder}, cast from its edge: " if holder >= 0 else ""
+        return (f"sensor {inside}of {RAYS} rays, {bodies} hit a particle, {walls} a wall; "
+                f"exact tests {int(found.tested.sum())} of {RAYS * world.n}")
+    return text
+
+
+def sensor_example(world):
+    """The point and normal of the sensor's first ray that hits a particle, as the query gives them."""
+    def text(state):
+        _, _, found, _ = sensor_rays(world, state)
+        bodies = np.flatnonzero(found.kinds == found.KIND_NAMES.index("body"))
+        title = "a ray query returns the point it hits and the surface normal there"
         if not len(bodies):
-            return f"{seen}; {tests}"
-        k = bodies[0]
-        point, normal = found.points[k], found.normals[k]
-        return (f"{seen}; ray {k + 1}: point ({point[0]:.2f}, {point[1]:.2f}), "
-                f"normal ({normal[0]:.2f}, {normal[1]:.2f}); {tests}")
+            return title
+        point, normal = found.points[bodies[0]], found.normals[bodies[0]]
+        return (f"{title}: ray {bodies[0] + 1} at ({point[0]:.2f}, {point[1]:.2f}), "
+                f"normal ({normal[0]:.2f}, {normal[1]:.2f})")
     return text
 
 
@@ -150,14 +175,12 @@ def missile_status(state, dt: float) -> str:
 
 def explainer(world, fps) -> Explainer:
     return Explainer([
-        Caption("a ray query returns the point it hits and the surface normal there, a unit vector",
-                0.0, None, "top"),
+        Caption(sensor_example(world), 0.0, None, "top"),
         Caption(sensor_status(world), 0.0, None, "top", 1),
         Caption(lambda state: missile_status(state, 1.0 / fps), 0.0, None, "bottom"),
-        Caption(lambda state: f"it moves {MISSILE_SPEED / fps:.2f} a step, more than a small particle's width "
-                              f"({2 * world.radii.min():.2f}): tested only where it lands it could jump one; "
-                              f"missiles that hit so far: {state.counters.get('missiles hit', 0)}", 0.0, None,
-                "bottom", 1),
+        Caption(lambda state: f"a step of {MISSILE_SPEED / fps:.2f} > a small particle's width "
+                              f"{2 * world.radii.min():.2f}: checked where it lands, it could jump one; "
+                              f"hits so far: {state.counters.get('missiles hit', 0)}", 0.0, None, "bottom", 1),
     ])
 
 

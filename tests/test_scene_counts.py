@@ -287,24 +287,51 @@ def test_raycast_sensor_caption_counts_hits_as_brute_force_finds_them():
     scene = module.scene().with_options(seconds=0.5)
     world = scene.world
     for state in list(played_scene(scene))[::3]:
-        origins, directions, _ = module.sensor_rays(world, state)
-        exact = collisim.raycast_many(world, origins, directions, module.REACH, broadphase="brute",
+        origins, directions, _, holder = module.sensor_rays(world, state)
+        reach = module.REACH - np.hypot(*(origins - module.SENSOR).T)   # rays from inside step out first
+        exact = collisim.raycast_many(world, origins, directions, reach, broadphase="brute",
                                       positions=state.positions)
         to_centres = state.positions[None] - origins[:, None]                     # (rays, n, 2)
         along = np.einsum("rnk,rk->rn", to_centres, directions)
         miss2 = np.einsum("rnk,rnk->rn", to_centres, to_centres) - along ** 2
         entry = along - np.sqrt(np.maximum(world.radii ** 2 - miss2, 0.0))
-        meets = (miss2 <= world.radii ** 2) & (along > 0) & (entry <= module.REACH)
+        meets = (miss2 <= world.radii ** 2) & (along > 0) & (entry <= reach[:, None])
         ahead = np.where(directions > 0, np.array(module.BOX[2:]), np.array(module.BOX[:2])) - origins
         with np.errstate(divide="ignore", invalid="ignore"):
             wall = np.where(directions != 0, ahead / directions, np.inf).min(axis=1)   # the wall it leaves by
         first_body = np.where(meets, entry, np.inf).min(axis=1)
-        particles = int(np.sum(first_body <= np.minimum(wall, module.REACH)))
-        walls = int(np.sum((wall <= module.REACH) & (first_body > wall)))
-        found = numbers(module.sensor_status(world)(state))
+        particles = int(np.sum(first_body <= np.minimum(wall, reach)))
+        walls = int(np.sum((wall <= reach) & (first_body > wall)))
+        found = numbers(module.sensor_status(world)(state))[(holder >= 0):]
         assert found[:3] == [module.RAYS, particles, walls]
         assert found[-1] == module.RAYS * world.n and found[-2] <= found[-1]
+        example = module.sensor_example(world)(state)
+        if particles:   # the point and normal of the first ray that hits a particle, as the query gave them
+            k = int(np.flatnonzero(exact.kinds == exact.KIND_NAMES.index("body"))[0])
+            assert f"ray {k + 1} at ({exact.points[k, 0]:.2f}, {exact.points[k, 1]:.2f})" in example
         assert (exact.kinds == exact.KIND_NAMES.index("body")).sum() == particles
+
+
+def test_raycast_sensor_inside_a_particle_says_so_and_casts_from_where_its_rays_leave_it():
+    """A particle drifting over the sensor: every ray starts inside it, where the query has no
+    surface to give (inside, normal (0, 0)); the scene says so and casts each ray again from the
+    particle's edge, so every point and normal shown is a real surface's."""
+    module = scene_module("raycast")
+    scene = module.scene().with_options(seconds=0.1)
+    world = scene.world
+    state = next(iter(played_scene(scene)))
+    state.positions = state.positions.copy()
+    holder = int(np.argmax(world.radii))
+    state.positions[holder] = module.SENSOR + [0.1, -0.05]
+    apart = np.hypot(*(state.positions - state.positions[holder]).T) - world.radii - world.radii[holder]
+    state.positions[(apart < 0) & (np.arange(world.n) != holder)] += [0.0, 3.0]   # clear room around it
+    state.memory.clear()
+    starts, directions, found, inside = module.sensor_rays(world, state)
+    assert inside == holder
+    np.testing.assert_allclose(np.hypot(*(starts - state.positions[holder]).T), world.radii[holder], rtol=1e-8)
+    hit = np.isfinite(found.distance)
+    assert not found.inside.any() and np.allclose(np.hypot(*found.normals[hit].T), 1.0)
+    assert module.sensor_status(world)(state).startswith(f"sensor in particle {holder}, cast from its edge:")
 
 
 def test_tunneling_remedies_slower_or_more_frames_miss_none_where_the_fast_run_misses():
