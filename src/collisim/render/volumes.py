@@ -123,10 +123,15 @@ def funnel_figure(canvas, rect, view, state, unit) -> None:
         false = 1.0 - totals[3] / totals[k] if totals[k] else math.nan
         share = totals[k] / totals[0] if totals[0] else 0.0
         color = COLORS[k] if k < 3 else palette.HIGHLIGHT
-        _text(canvas, f"{level}: {totals[k]}", x + pad, top - 0.55 * row, unit, color, room, state.layout, rect)
+        # the shapes are tested at frame times, where bodies that collided within a step have
+        # already parted: that level is said apart from the collisions, lest 0 read as none
+        label = f"{level}: {totals[k]}" if k < 3 else f"shapes touching at a frame: {totals[k]}"
+        _text(canvas, label, x + pad, top - 0.55 * row, unit, color, room, state.layout, rect)
         bar = max(share * room, 1.0)
         raster.draw_rect_px(canvas, (x + pad, top - 0.2 * row), (x + pad + bar, top + 0.05 * row), color, -1)
         note = f"now {now[k]}" if now[k] != NOT_COUNTED else ""
+        if k == 3:
+            note += f"; {state.total_collisions} collisions, within steps"
         if k < 3 and not math.isnan(false):
             note += f", {false:.0%} false positives"
         _text(canvas, note, x + pad, top + 0.12 * row, unit, palette.DIM_TEXT, room, state.layout, rect)
