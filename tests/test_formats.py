@@ -360,23 +360,24 @@ def test_a_warm_cache_says_nothing_about_compiling(tmp_path):
 
 
 def cache_missing_one_kernel(cache: Path, missing: str = "eventlog.new_log") -> bool:
-    """Fill the folder `cache` (a NUMBA_CACHE_DIR) with the in-tree cache of collisim's kernels
-    (the __pycache__ folders beside the sources, as numba lays them out there), less the entries
-    of `missing` (module.function), a kernel a render calls before its first frame. False when
-    the in-tree cache holds nothing to copy (a read-only install keeps it elsewhere)."""
+    """Fill the folder `cache` (a NUMBA_CACHE_DIR) with the kernels this process's renders cached
+    (collisim keeps them in core/compiling.cache_folder(), under NUMBA_CACHE_DIR as
+    collisim-DIGEST), less the entries of `missing` (module.function), a kernel a render calls
+    before its first frame. False when there is nothing to copy."""
     import shutil
 
-    from numba.core.caching import _CacheLocator
-    module, function = missing.split(".")
+    import numba
+    from collisim.core.compiling import PACKAGE, package_digest
+    kept = Path(numba.config.CACHE_DIR)
+    target = cache / f"collisim-{package_digest(PACKAGE)[:20]}"
     copied = False
-    for tree in Path(collisim.__file__).parent.rglob("__pycache__"):
-        folder = cache / _CacheLocator.get_suitable_cache_subpath(str(tree.parent / "x.py"))
-        for entry in [*tree.glob("*.nbi"), *tree.glob("*.nbc")]:
-            if tree.parent.name == "engine" and entry.name.startswith(f"{module}.{function}-"):
-                continue
-            folder.mkdir(parents=True, exist_ok=True)
-            shutil.copy2(entry, folder / entry.name)
-            copied = True
+    for entry in [*kept.rglob("*.nbi"), *kept.rglob("*.nbc")]:
+        if entry.name.startswith(f"{missing}-"):
+            continue
+        folder = target / entry.parent.relative_to(kept)
+        folder.mkdir(parents=True, exist_ok=True)
+        shutil.copy2(entry, folder / entry.name)
+        copied = True
     return copied
 
 
@@ -384,10 +385,9 @@ def test_a_kernel_missing_from_the_cache_says_it_is_compiling_before_the_bar(tmp
     """The first-run line comes from numba's compile events, whatever compiles: a cache with one
     kernel missing shows it as an empty cache does (an empty cache took 35 s to fill here, and
     the Quick start's first render runs with one on every fresh install)."""
-    render(*TINY, "--out", tmp_path / "warm_tree.mp4")            # the in-tree cache holds every kernel
+    render(*TINY, "--out", tmp_path / "warm_tree.mp4")            # the cache holds every kernel it needs
     cache = tmp_path / "cache"
-    if not cache_missing_one_kernel(cache):
-        pytest.skip("the kernels are not cached beside the sources")
+    assert cache_missing_one_kernel(cache)
     env = dict(os.environ, NUMBA_CACHE_DIR=str(cache))
     cold = render("--seconds", "0.25", "--size", "160x90", "--out", tmp_path / "cold.mp4", env=env)
     assert cold.returncode == 0, cold.stderr
