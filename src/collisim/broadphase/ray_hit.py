@@ -74,18 +74,19 @@ def search_limit(best, ray):
 @njit(cache=True, inline="always")
 def test_body(bodies, i, ray, best):
     """Test body i exactly and keep the closer hit. bodies: (shapes (n,), positions (n, 2),
-    radii (n,), lo (n, 2), hi (n, 2)), lo and hi the bodies' bounding boxes.
+    radii (n,), vertices (V, 2), start (n + 1,), lo (n, 2), hi (n, 2)): the polygons' world
+    vertices (narrowphase/ray.py), and lo and hi the bodies' bounding boxes.
 
     A body counts as hit only where the ray also meets its box within max_distance, by the
     slab test: a ray grazing a circle where it touches its box (the circle's extreme point)
     can round to a hit in the circle test and to a miss in the slab test, and every broad
     phase reaches a body through slab tests of its own regions. Asking the slab test first
     settles such a ray the same way for all of them, brute force included."""
-    shapes, positions, radii, lo, hi = bodies
+    shapes, positions, radii, vertices, start, lo, hi = bodies
     if ray_box_entry(ray.ox, ray.oy, ray.ux, ray.uy, ray.max_distance,
                      lo[i, 0], lo[i, 1], hi[i, 0], hi[i, 1]) == np.inf:
         return best
-    t, nx, ny, inside = ray_body(shapes, positions, radii, i, ray.ox, ray.oy, ray.ux, ray.uy)
+    t, nx, ny, inside = ray_body(shapes, positions, radii, vertices, start, i, ray.ox, ray.oy, ray.ux, ray.uy)
     return keep_closer(best, t, inside, BODY, i, nx, ny, ray.max_distance)
 
 

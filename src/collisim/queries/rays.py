@@ -3,8 +3,8 @@ normal there (`checkRayCollision(position, dir, length, out cp, out surfaceNorma
 
 What a ray can hit, and what the answer says (geometry/ray.py has each shape's exact rule):
 
-* bodies (kind "body", index the body): solid. A ray whose origin is strictly inside one
-  (|o - c| < r for a circle) returns distance 0, point = origin, normal (0, 0), inside True.
+* bodies (kind "body", index the body): solid, circles and convex polygons alike. A ray whose
+  origin is strictly inside one (|o - c| < r for a circle) returns distance 0, point = origin, normal (0, 0), inside True.
   Engines differ here: pymunk's segment_query_first reports a hit at alpha 0 whose point and
   normal describe no surface; Box2D's ray casts treat initial overlap as a miss and look past
   the shape. Here you are told, and can step out and cast again for what lies beyond. An
@@ -95,35 +95,36 @@ class RayHits:
 
 
 def raycast(world, origin, direction, max_distance=math.inf, broadphase=AUTO, *,
-            positions=None) -> RayHit | None:
+            positions=None, angles=None) -> RayHit | None:
     """The first thing the ray origin + t·u, t in [0, max_distance], u = direction / |direction|,
     hits in `world`, or None (see the module docstring for what counts as a hit).
 
     origin, direction: (2,); max_distance >= 0, inf allowed; broadphase: "auto" or one of
-    broadphase.NAMES (all give the same answer); positions: (n, 2) body centres to use instead
-    of world.positions (a recorded frame). A ray starting inside a body, the map's solid or
+    broadphase.NAMES (all give the same answer); positions: (n, 2) body centres, and angles (n,)
+    the polygons' turns, to use instead of the world's own (a recorded frame). A ray starting
+    inside a body (a circle or a polygon), the map's solid or
     outside the box returns distance 0, point = origin, normal (0, 0), inside True. Raises
     ValueError for a zero or non-finite direction, a non-finite origin, or a negative or NaN
     max_distance.
     """
     check_ray(origin, direction, max_distance)
     hits = raycast_many(world, np.reshape(origin, (1, 2)), np.reshape(direction, (1, 2)), max_distance,
-                        broadphase, positions=positions)
+                        broadphase, positions=positions, angles=angles)
     return hits.hit(0)
 
 
 def raycast_many(world, origins, directions, max_distance=math.inf, broadphase=AUTO, *,
-                 positions=None) -> RayHits:
+                 positions=None, angles=None) -> RayHits:
     """The first hits of m rays, in one compiled call: the broad phase's structure and the
     segment indices are built once.
 
     origins, directions: (m, 2); max_distance: a number or (m,), each >= 0, inf allowed;
-    broadphase, positions: as for raycast. Raises ValueError, naming the ray, for a bad one.
+    broadphase, positions, angles: as for raycast. Raises ValueError, naming the ray, for a bad one.
     """
     origins, units, max_distances = check_rays(origins, directions, max_distance)
     name = broadphase_name(world, broadphase)
-    bodies = body_arrays(world, positions)
-    lo, hi = bodies[3], bodies[4]
+    bodies = body_arrays(world, positions, angles)
+    lo, hi = bodies[-2], bodies[-1]
     segments, map_segments, in_map = statics_arrays(world, origins)
     m = len(origins)
     out = (np.empty(m), np.empty((m, 2)), np.empty((m, 2)), np.empty(m, np.int8), np.empty(m, np.int64),
@@ -170,19 +171,24 @@ def broadphase_name(world, broadphase: str) -> str:
     return broadphase
 
 
-def body_arrays(world, positions) -> tuple[np.ndarray, ...]:
-    """(shapes (n,) int8, centres (n, 2), radii (n,), lo (n, 2), hi (n, 2)): the bodies at
-    world.positions, or at `positions`, and their bounding boxes (as engine/discrete.py:
-    _bounds)."""
+def body_arrays(world, positions, angles=None) -> tuple[np.ndarray, ...]:
+    """(shapes (n,) int8, centres (n, 2), radii (n,), vertices (V, 2), start (n + 1,), lo (n, 2),
+    hi (n, 2)): the bodies at world.positions and world.angles, or at `positions` and `angles`,
+    the polygons' vertices placed there, and the bounding boxes of their bounding circles."""
     centres = world.positions if positions is None else np.asarray(positions, dtype=np.float64)
     if centres.shape != (world.n, 2):
         raise ValueError(f"positions must have shape ({world.n}, 2); got {centres.shape}")
     if not np.isfinite(centres).all():
         raise ValueError("positions must be finite (no NaN or inf)")
     centres = np.ascontiguousarray(centres, dtype=np.float64)
+    turns = world.angles if angles is None else np.asarray(angles, dtype=np.float64)
+    if turns.shape != (world.n,) or not np.isfinite(turns).all():
+        raise ValueError(f"angles must be {world.n} finite numbers; got shape {turns.shape}")
+    vertices = world.placed_vertices(centres, np.ascontiguousarray(turns))
     radii = np.ascontiguousarray(world.radii, dtype=np.float64)
     reach = radii[:, None]
-    return np.ascontiguousarray(world.shapes, dtype=np.int8), centres, radii, centres - reach, centres + reach
+    return (np.ascontiguousarray(world.shapes, dtype=np.int8), centres, radii, vertices,
+            np.ascontiguousarray(world.vertex_start, dtype=np.int64), centres - reach, centres + reach)
 
 
 def statics_arrays(world, origins) -> tuple:
