@@ -68,6 +68,8 @@ BAD_STARTS = {
                              "bodies 0 and 1 overlap by 0.5"),
     "unknown method": (dict(method="verlet"), "unknown method 'verlet'; choose one of: discrete, ccd"),
     "unknown broad phase": (dict(broadphase="octree"), "unknown broad phase 'octree'; choose one of: auto, brute"),
+    "friction under ccd": (dict(world=dict(positions=[[5, 5]], friction=0.5), method="ccd"),
+                           r"ccd covers frictionless contacts only .* friction=0.5: use method discrete"),
 }
 
 

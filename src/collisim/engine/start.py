@@ -22,8 +22,8 @@ TOUCH_TOLERANCE = 1e-9   # relative to the contact distance
 
 def check_scene(scene, methods) -> None:
     """ValueError for the first thing in scene (its panels and chapters included) that the
-    engine cannot run: a method not in `methods`, an unknown broad phase, damping under ccd,
-    bodies that overlap."""
+    engine cannot run: a method not in `methods`, an unknown broad phase, friction or damping
+    under ccd (which would otherwise be left out without a word), bodies that overlap."""
     for part in (*(panel.scene for panel in scene.panels), *scene.chapters):
         check_scene(part, methods)
     if scene.method not in methods:
@@ -32,10 +32,25 @@ def check_scene(scene, methods) -> None:
         raise ValueError(f"unknown broad phase {scene.broadphase!r}; choose one of: auto, "
                          f"{', '.join(BROAD_PHASES)}")
     if scene.world is not None:
-        if scene.method == "ccd" and scene.world.damping < 1.0:
-            raise ValueError(f"ccd moves bodies exactly along parabolas between events and does not model damping "
-                             f"(damping={scene.world.damping:g}); use the discrete method")
+        if scene.method == "ccd":
+            check_ccd_covers(scene.world)
         no_overlaps(scene.world)
+
+
+def check_ccd_covers(world) -> None:
+    """ValueError, in one line, for a world the event-driven method does not model, which it
+    would otherwise run without a word: polygons, gravity that differs from body to body,
+    friction, damping. (It moves circles exactly along parabolas between frictionless impacts.)"""
+    if np.any(world.shapes != CIRCLE):
+        raise ValueError("method ccd covers circles, segments and maps; this scene has polygons: use method discrete")
+    if not world.uniform_acceleration:
+        raise ValueError("method ccd needs one uniform gravity for all particles")
+    if world.friction > 0.0:
+        raise ValueError(f"method ccd covers frictionless contacts only (bodies slide without turning); this world "
+                         f"has friction={world.friction:g}: use method discrete, or friction=0")
+    if world.damping < 1.0:
+        raise ValueError(f"method ccd moves bodies exactly along parabolas and does not model damping "
+                         f"(damping={world.damping:g}): use method discrete")
 
 
 def no_overlaps(world) -> None:

@@ -11,10 +11,11 @@ import time
 
 import numpy as np
 
-from ...core.kinds import CIRCLE, MAP, SEGMENT
+from ...core.kinds import MAP, SEGMENT
 from ...model.trajectory import Events
 from ..frames import constant_angles, new_frames
 from ..profile import Profile
+from ..start import check_ccd_covers
 from .eventqueue import CELL
 from .events import run, sorted_log, start_event_loop
 from .fallback import FALLBACK_NOTE
@@ -37,11 +38,7 @@ class CCDStepper:
 
     def __init__(self, world, fps: float, frames: int, profile: Profile | None = None,
                  max_events_per_frame: int | None = None, rest_speed: float | None = None, tc: float | None = None):
-        if np.any(world.shapes != CIRCLE):
-            raise ValueError("method ccd covers circles, segments and maps; this scene has polygons: "
-                             "use method discrete")
-        if not world.uniform_acceleration:
-            raise ValueError("method ccd needs one uniform gravity for all particles")
+        check_ccd_covers(world)
         self.world = world
         self.frame_dt = 1.0 / fps
         # the budget grows with n: a gas of 20 000 fast disks needs more events a frame than 200
