@@ -9,7 +9,8 @@ import pytest
 import collisim
 from collisim.engine import stream
 from collisim.pipeline import plan
-from collisim.render.player import Chapter, PanelSource, Timeline
+from collisim.render.player import Chapter, PanelSource
+from collisim.render.timeline import Timeline
 
 SIZE = (320, 180)
 SCENES = {"particles_250": 1.5, "two_bodies": 2.5, "single_bounce": 2.0, "raycast": 1.5}

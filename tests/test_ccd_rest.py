@@ -10,7 +10,7 @@ from collisim.engine.ccd.events import simulate_events
 from collisim.core.geometry.segment import segment_contact
 from collisim.core.kinds import N_WALLS, PAIR, SEGMENT, SUPPORT, WALL
 from collisim.pipeline import scene_chapters
-from collisim.render.player import draw_frame, make_players
+from collisim.render.timeline import draw_frame, make_players
 
 G = 9.81
 

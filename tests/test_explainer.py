@@ -9,7 +9,7 @@ import collisim
 from collisim.render import explain
 from collisim.render.explain import Arrow, Caption, Explainer, Figure, Mark, Note
 from collisim.render.pace import Freeze, Slow
-from collisim.render.player import Timeline
+from collisim.render.timeline import Timeline
 
 
 def scenes_within(scene):

@@ -16,7 +16,7 @@ import pytest
 
 import collisim
 from collisim.pipeline import plan
-from collisim.render.player import draw_frame, make_players
+from collisim.render.timeline import draw_frame, make_players
 from conftest import ROOT, decode_video, run_cli
 
 TINY = ("--seconds", "0.25", "--size", "160x90", "--no-progress")

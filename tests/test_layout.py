@@ -14,7 +14,7 @@ from collisim.core.kinds import CIRCLE
 from collisim.model.scenefile import available_scenes
 from collisim.render import raster
 from collisim.render.layout import Layout, min_text_pixels
-from collisim.render.player import Timeline
+from collisim.render.timeline import Timeline
 
 IN_THE_BOX = ("note", "mark", "arrow", "tag", "status")   # labels placed among the bodies
 SHARES = (0.4, 0.7, 0.97)   # the moments of each chapter looked at: its explanations build up

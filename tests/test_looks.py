@@ -8,7 +8,7 @@ import collisim
 from collisim import palette
 from collisim.cli import main
 from collisim.pipeline import plan
-from collisim.render.player import make_players
+from collisim.render.timeline import make_players
 
 SIZE = (640, 360)
 

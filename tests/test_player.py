@@ -134,7 +134,7 @@ def test_compare_video_plays_the_methods_side_by_side(cli, tmp_path):
 def test_the_hud_reaches_its_last_frame_on_the_last_video_frame(fps):
     """The HUD counts frames out of the last sample the video shows, so its last frame reads N/N."""
     from collisim.render.hud import hud_lines
-    from collisim.render.player import Timeline
+    from collisim.render.timeline import Timeline
     scene = collisim.load_scene("particles_250").replace(seconds=1.0)
     job = collisim.pipeline.plan(scene, SIZE, fps=fps)
     timeline = Timeline(job.chapters, job.size, job.fps)

@@ -4,7 +4,7 @@ import pytest
 
 import collisim
 from collisim.pipeline import scene_chapters
-from collisim.render.player import draw_frame, make_players
+from collisim.render.timeline import draw_frame, make_players
 from collisim.render.view import View
 
 

@@ -38,7 +38,7 @@ def played(six, index):
     """(state, trajectory) at every video frame of chapter `index` of broadphase_six at -ql, the
     states as the player builds them (clock set, frozen frames included), the trajectory the
     engine's own run of that chapter's panel, simulated here apart from the player."""
-    from collisim.render.player import make_players
+    from collisim.render.timeline import make_players
     scene = six.scene()
     panel = scene.chapters[index].panels[0]
     trajectory = collisim.simulate(panel.scene)
@@ -175,7 +175,7 @@ def scene_module(name):
 
 def played_scene(scene, quality="l"):
     """The player's state at every video frame of a one-panel scene (clock set)."""
-    from collisim.render.player import make_players
+    from collisim.render.timeline import make_players
     job = collisim.pipeline.plan(scene, quality=quality)
     player = make_players(job.chapters[0], job.size, job.fps)[0]
     for frame in range(job.frames):
@@ -338,7 +338,7 @@ def test_tunneling_remedies_slower_or_more_frames_miss_none_where_the_fast_run_m
     """The video's easy remedies, counted on screen from the played samples and here from the
     engine's own runs: the fast particles tunnel, slowed down or at eight times the frames a
     second they do not."""
-    from collisim.render.player import make_players
+    from collisim.render.timeline import make_players
     module = scene_module("tunneling")
     chapter_scene = module.scene().chapters[0]
     job = collisim.pipeline.plan(module.scene(), quality="l")

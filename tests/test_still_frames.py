@@ -47,3 +47,34 @@ def test_a_still_draws_one_frame_when_nothing_keeps_memory(tmp_path, monkeypatch
     scene = shipped("particles_250")
     collisim.render(scene, tmp_path / "last.png", SIZE, last_frame=True)
     assert len(drawn) == 1
+
+
+def ghost_overlay(canvas, view, state):
+    """Rings where the bodies were at the panel's first sample, kept in state.memory."""
+    from collisim import palette
+    from collisim.render import raster
+    first = state.memory.setdefault("first", state.positions.copy())
+    raster.draw_rings(canvas, view.to_pixels(first), [4.0] * len(first), palette.TEXT, 1)
+
+
+def test_a_still_of_panels_in_rows_that_keep_memory_is_drawn_at_the_video_s_scale():
+    """Four titled panels in two rows whose overlay keeps memory: the still plays them again from
+    the chapter's start, and played again they are drawn at the frame's scale (their HUD and
+    titles), as in the video, not at their own smaller panel's."""
+    from collisim.render.timeline import Timeline
+    panels = []
+    for k in range(4):
+        world = collisim.World([[2.0 + k, 5.0], [7.0, 5.0]], [[2.0, 0.5], [-1.0, 0.0]], radii=0.5)
+        settings = collisim.RenderSettings(overlay=ghost_overlay)
+        panels.append(collisim.Panel(collisim.Scene(world=world, fps=30, seconds=1.0, render=settings), f"panel {k}"))
+    scene = collisim.Scene(panels=panels, fps=30, seconds=1.0)
+    job = collisim.pipeline.plan(scene, size=(1280, 720), fps=15)   # panels of 360 rows, text as at 720
+    timelines = [Timeline(job.chapters, job.size, job.fps) for _ in range(2)]
+    frame = 10
+    video, still = (np.empty((720, 1280, 3), np.uint8) for _ in range(2))
+    for earlier in range(frame + 1):
+        timelines[0].draw(video, earlier)
+    timelines[1].draw_alone(still, frame)
+    for timeline in timelines:
+        timeline.close()
+    np.testing.assert_array_equal(still, video)

@@ -9,7 +9,8 @@ import collisim
 from collisim.core.kinds import PAIR, WALL
 from collisim.render import teach
 from collisim.render.explain import Explainer, resolve
-from collisim.render.player import FrameState, Timeline
+from collisim.render.player import FrameState
+from collisim.render.timeline import Timeline
 
 M1, M2, U1, U2 = 1.0, 3.0, 2.0, -1.0
 

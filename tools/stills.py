@@ -19,7 +19,7 @@ import numpy as np
 from PIL import Image
 
 import collisim
-from collisim.render.player import Timeline
+from collisim.render.timeline import Timeline
 
 SCENES = ("frame_rate", "single_bounce", "two_bodies", "tunneling", "broadphase_six", "teacher_drop", "raycast",
           "collision_map")

@@ -17,7 +17,7 @@ import numpy as np
 from .. import palette
 from ..core.kinds import CIRCLE, SUPPORT
 from ..model.scene import RenderSettings
-from ..model.trajectory import Events, PastEvents, approximate_summary
+from ..model.trajectory import Events, PastEvents
 from . import explain, raster
 from .hud import draw_hud, hud_lines
 from .layout import CAP_SHARE, HERSHEY_CAP, Layout, Placed, min_text_pixels
@@ -107,11 +107,12 @@ class PanelPlayer:
     def __init__(self, source: PanelSource, rect: tuple, video_fps: float, video_frames: int | None = None,
                  frame_height: int | None = None):
         self.source, self.settings, self.title, self.video_fps = source, source.settings, source.title, video_fps
-        self.rect = rect
+        self.rect, self.video_frames = rect, video_frames
         left, top, width, height = rect
         # title and HUD grow with tall panels and with the frame (a panel of a 1080p frame is seen
         # at the frame's size, so it draws as the same panel of a 480p frame, scaled)
         frame_height = height if frame_height is None else frame_height
+        self.frame_height = frame_height
         self.grow = max(1.0, height / explain.BASE_HEIGHT, frame_height / explain.BASE_HEIGHT)
         title_height = int(round(TITLE_HEIGHT * self.grow)) if self.title else 0
         hud_height = int(round(HUD_HEIGHT * self.grow)) if self.settings.hud else 0
@@ -225,6 +226,10 @@ class PanelPlayer:
                           int(b.candidates[row]), int(b.pair_collisions[row]), self._collisions,
                           self.approximate_frames, past, hierarchy=b.hierarchy[row], memory=self._memory)
 
+    def again(self) -> "PanelPlayer":
+        """A new player of the same panel, from its first sample, drawn at the same scale."""
+        return PanelPlayer(self.source, self.rect, self.video_fps, self.video_frames, self.frame_height)
+
     def rehearse(self, scratch) -> None:
         """What the overlay and the explainer keep from this frame (state.memory), as the video
         gives them this frame: they are called as draw calls them, over a scratch canvas."""
@@ -311,127 +316,3 @@ class PanelPlayer:
             radii = self.view.length(self.world.radii[events.i[fresh]]) * (0.3 + 0.5 * age)
             centres = self.view.to_pixels(events.point[fresh])
             raster.draw_rings(canvas, centres, radii, palette.FLASH, max(1, int(round(self.unit))), clip)
-
-
-def panel_rects(count: int, size: tuple, layout=None) -> list:
-    """Split the canvas into a grid of equal panels: `layout` (rows, cols), or up to three in a row."""
-    width, height = size
-    if layout is None:
-        cols = count if count <= 3 else math.ceil(count / 2)
-        rows = math.ceil(count / cols)
-    else:
-        rows, cols = layout
-    w, h = width // cols, height // rows
-    return [((k % cols) * w, (k // cols) * h, w, h) for k in range(count)]
-
-
-def make_players(chapter: Chapter, size: tuple, video_fps: float) -> list:
-    rects = panel_rects(len(chapter.panels), size, chapter.layout)
-    return [PanelPlayer(source, rect, video_fps, chapter.frames, size[1])
-            for source, rect in zip(chapter.panels, rects)]
-
-
-def draw_frame(canvas, players: list, frame: int) -> None:
-    """Draw video frame `frame` of the players over the canvas's background."""
-    for player in players:
-        player.advance(frame)
-        player.draw(canvas)
-
-
-class Timeline:
-    """Which chapter, and which of its frames, each video frame shows."""
-
-    def __init__(self, chapters: list, size: tuple, fps: float):
-        self.chapters, self.size, self.fps = chapters, size, fps
-        self.background = np.empty((size[1], size[0], 3), np.uint8)
-        self.background[:] = raster.bgr(palette.BACKGROUND)
-        self.starts = np.cumsum([0] + [c.frames for c in chapters])
-        self._index, self._players, self._finished = -1, [], []
-
-    def draw(self, canvas, frame: int) -> None:
-        index, local = self._locate(frame)
-        chapter = self.chapters[index]
-        if index != self._index:
-            for player in self._players:
-                player.close()
-            self._finished.extend(self._players)
-            self._index, self._players = index, make_players(chapter, self.size, self.fps)
-        np.copyto(canvas, self.background)  # a plain copy: filling with a colour is ten times slower
-        draw_frame(canvas, self._players, local)
-
-    def draw_alone(self, canvas, frame: int, step=None) -> None:
-        """Draw video frame `frame` with the same pixels as draw() would after every frame
-        before it, drawing none of them (-s, --png N): the chapters before its own are neither
-        simulated nor drawn, and its panels are simulated to the frame and visit every sample
-        on the way (trails, flashes, counters and the HUD's counts build up as in the video).
-
-        An overlay or explainer may keep what it saw at earlier frames in state.memory (the
-        moment a function first answered, ghosts of past samples). So the frame is drawn
-        first as if it were alone; a panel whose drawing read its memory is then played again
-        from its chapter's first frame, its overlay and explainer called at every frame over a
-        scratch canvas (the bodies, trails and HUD not drawn), and the frame drawn again.
-        `step(done, total)` is told of each frame rehearsed."""
-        index, local = self._locate(frame)
-        chapter = self.chapters[index]
-        self.close()
-        self._index, self._players = index, make_players(chapter, self.size, self.fps)
-        remembering = []
-        np.copyto(canvas, self.background)
-        for k, player in enumerate(self._players):
-            player.advance(local)
-            player._memory.touched = False
-            player.draw(canvas)
-            if player._memory.touched:
-                remembering.append(k)
-        if not remembering:
-            return
-        scratch = np.empty_like(canvas)
-        for k in remembering:
-            old = self._players[k]
-            old.close()
-            player = self._players[k] = PanelPlayer(old.source, old.rect, self.fps, chapter.frames)
-            for earlier in range(local):
-                player.advance(earlier)
-                player.rehearse(scratch)
-                if step is not None:
-                    step(earlier + 1, local)
-            player.advance(local)
-        np.copyto(canvas, self.background)
-        for player in self._players:   # a panel that read no memory draws the same pixels again
-            player.draw(canvas)
-
-    def _locate(self, frame: int) -> tuple:
-        """(chapter index, frame within the chapter) of a video frame; past the end, the last
-        chapter's last frame holds."""
-        index = min(int(np.searchsorted(self.starts, frame, side="right")) - 1, len(self.chapters) - 1)
-        return index, min(frame - int(self.starts[index]), self.chapters[index].frames - 1)
-
-    def placed(self) -> list:
-        """(panel player, Placed) for every label of the frame drawn last (the tests' geometry)."""
-        return [(player, label) for player in self._players for label in player.placed]
-
-    def approximate_summary(self) -> str:
-        """One line saying how many of the played frames were approximate, and why; '' if none."""
-        players = [p for p in self._finished + self._players if p.approximate_frames]
-        if not players:
-            return ""
-        parts = [approximate_summary(p.approximate_frames, p.source.frames, p.title or "the scene",
-                                     p.warnings) for p in players]
-        return "; ".join(parts)
-
-    def close(self) -> None:
-        """Stop the engine for every panel (at the end of a render, or when it is cut short)."""
-        for player in self._finished + self._players:
-            player.close()
-
-    def waited(self) -> float:
-        """Seconds the players spent waiting for the engine's blocks."""
-        return sum(player.waited for player in self._finished + self._players)
-
-    def profile(self) -> dict:
-        total = {}
-        for player in self._finished + self._players:
-            # a copy taken at once: an engine thread stopped early may still be timing a phase
-            for phase, seconds in dict(player.profile).items():
-                total[phase] = total.get(phase, 0.0) + seconds
-        return total

@@ -20,7 +20,7 @@ from .. import palette
 from ..io.writers import open_writer, write_png
 from ..core.checks import number
 from . import bands
-from .player import Timeline
+from .timeline import Timeline
 from .raster import bgr
 
 

@@ -42,7 +42,7 @@ from collisim.io.writers import open_writer
 from collisim.palette import default_colors
 from collisim.pipeline import scene_chapters
 from collisim.render import raster
-from collisim.render.player import Timeline
+from collisim.render.timeline import Timeline
 from collisim.render.view import View
 
 SIZE = (1280, 720)
