@@ -9,6 +9,7 @@ import collisim
 from collisim.render import explain
 from collisim.render.explain import Arrow, Caption, Explainer, Figure, Mark, Note
 from collisim.render.pace import Freeze, Slow
+from collisim.render.text import fit_width, text_image
 from collisim.render.timeline import Timeline
 
 
@@ -56,7 +57,7 @@ def ink(image):
 
 
 def test_text_grows_with_the_frame():
-    small, large = explain.text_image("p = v t", 17.0), explain.text_image("p = v t", 17.0 * 2.25)
+    small, large = text_image("p = v t", 17.0), text_image("p = v t", 17.0 * 2.25)
     (small_rows, small_cols), (large_rows, large_cols) = ink(small), ink(large)
     assert 2.0 < large_rows / small_rows < 2.5 and 2.0 < large_cols / small_cols < 2.5
     assert 0.0 < small.max() <= 1.0
@@ -71,7 +72,7 @@ def test_text_is_whole_within_its_image():
         for pixels in (17.0, 38.5, 76.5):
             roomy = MathTextParser("agg").parse(r"$\,$" + text + r"$\,$", dpi=72, prop=FontProperties(size=pixels))
             all_of_it = np.asarray(roomy.image, np.float64).sum() / 255.0
-            assert explain.text_image(text, pixels).sum() == pytest.approx(all_of_it, rel=1e-6), (text, pixels)
+            assert text_image(text, pixels).sum() == pytest.approx(all_of_it, rel=1e-6), (text, pixels)
 
 
 def test_items_fade_in_and_out_on_the_timeline():
@@ -106,8 +107,8 @@ def test_an_item_can_wait_for_an_event_and_keeps_its_moment():
 
 
 def test_a_long_caption_shrinks_to_its_strip():
-    image = explain.text_image("a rather long caption " * 6, 17.0)
-    fitted = explain.fit_width(image, 200)
+    image = text_image("a rather long caption " * 6, 17.0)
+    fitted = fit_width(image, 200)
     assert fitted.shape[1] <= 200 and fitted.shape[0] < image.shape[0]
     assert math.isclose(fitted.shape[0] / image.shape[0], 200 / image.shape[1], rel_tol=0.1)
 

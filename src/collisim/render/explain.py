@@ -39,11 +39,11 @@ import numpy as np
 
 from .. import palette
 from . import layout as placing, raster
-from .text import fit_width, paste, split_line, text_image, text_pixels, two_lines, typeset  # noqa: F401
+from .text import fit_width, paste, split_line, text_image, text_pixels, two_lines
 from ..core.checks import is_whole
 from .items import Arrow, Caption, Figure, Mark, Note, Point, check_choice
 
-BASE_HEIGHT = 480.0        # a panel this tall draws text at its base size
+BASE_HEIGHT = placing.BASE_HEIGHT   # a panel this tall draws text at its base size
 CAPTION_PIXELS = 17.0      # caption text height at the base size
 NOTE_PIXELS = 14.0
 MIN_UNIT = placing.MIN_TEXT_PIXELS / NOTE_PIXELS   # the smallest text, a note's, at its least readable size

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-BASE_HEIGHT = 480.0
+BASE_HEIGHT = 480.0        # a frame this tall draws text at its base size (render/explain.py too)
 MIN_TEXT_PIXELS = 11.0     # the smallest text (its size in pixels, an em) in a frame BASE_HEIGHT tall
 CAP_SHARE = 0.73           # a capital's height over the text's size (DejaVu Sans, mathtext's font)
 HERSHEY_CAP = 21.0         # a capital of OpenCV's Hershey simplex font at scale 1, in pixels
@@ -116,11 +116,11 @@ class Layout:
 
     def status(self, size: tuple, kind: str, text: str, pixels: float) -> Placed:
         """Place a line that names no point: the free place nearest the bound's top-left corner,
-        rows first, then its other corners' rows (a status line kept clear of the bodies)."""
+        row by row from the top (a status line kept clear of the bodies)."""
         w, h = size
         bx, by, bw, bh = self.bound
         step = max(0.5 * h, 2.0)
-        tops = np.concatenate([by + self.pad + np.arange(0.0, bh - h - 2 * self.pad + 1, step)])
+        tops = by + self.pad + np.arange(0.0, bh - h - 2 * self.pad + 1, step)
         lefts = bx + self.pad + np.arange(0.0, max(bw - w - 2 * self.pad, 0.0) + 1, step)
         ys, xs = np.meshgrid(tops, lefts, indexing="ij")
         rects = np.column_stack([np.round(xs.ravel()), np.round(ys.ravel()),

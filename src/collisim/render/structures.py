@@ -16,6 +16,7 @@ from .. import palette
 from ..broadphase.grid import bin_boxes
 from ..broadphase.step import GridState
 from . import explain, raster
+from .text import paste, text_image
 
 
 def width(unit: float, share: float = 1.0) -> int:
@@ -45,10 +46,10 @@ def rings(canvas, view, positions, radii, bodies, color, unit: float, share: flo
 
 def label(canvas, text: str, centre_px, unit: float, color=None, pixels: float = explain.NOTE_PIXELS) -> tuple:
     """Typeset text centred on a pixel point; returns its rectangle."""
-    image = explain.text_image(text, pixels * unit)
+    image = text_image(text, pixels * unit)
     left = int(round(centre_px[0] - image.shape[1] / 2))
     top = int(round(centre_px[1] - image.shape[0] / 2))
-    return explain.paste(canvas, image, left, top, color or palette.TEXT, 1.0)
+    return paste(canvas, image, left, top, color or palette.TEXT, 1.0)
 
 
 # --- sweep and prune -------------------------------------------------------------------------

@@ -1,6 +1,6 @@
 """Typeset text kept on disk from one run to the next, as manim keeps its typeset TeX.
 
-A caption's coverage is typeset by matplotlib's mathtext (explain.text_image). Its first use
+A caption's coverage is typeset by matplotlib's mathtext (text.text_image). Its first use
 in a process costs about 0.25 s before the first glyph: importing matplotlib's Agg backend
 (which mathtext asks for its hinting) and building mathtext's grammar. A warm first frame
 with captions took 1.06-1.14 s, and 0.80-0.81 s with its text read from here (single_bounce).

@@ -18,6 +18,7 @@ from .. import palette
 from ..model.trajectory import LEVELS, NOT_COUNTED
 from ..engine.hierarchy import CX, CY, HALF_H, HALF_W, UX, UY, XMAX, XMIN, YMAX, YMIN, hierarchy, volumes_of
 from . import explain, raster
+from .text import fit_width, paste, text_image, text_pixels
 from .layout import nearest_point
 from .structures import width
 
@@ -98,13 +99,13 @@ def _tag(canvas, layout, text: str, centre_px, unit: float, color) -> None:
     """A false positive's tag near the middle of its pair, clear of the shapes and other tags
     (above the middle when that is free), with a leader line when moved far."""
     pixels = explain.NOTE_PIXELS * unit
-    image = explain.text_image(text, pixels)
-    placed = layout.place(image.shape[::-1], centre_px, "tag", text, explain.text_pixels(pixels), gap=3 * unit,
+    image = text_image(text, pixels)
+    placed = layout.place(image.shape[::-1], centre_px, "tag", text, text_pixels(pixels), gap=3 * unit,
                           first=(0, -1))
     if placed.leader:
         start = np.asarray(centre_px, float)
         raster.draw_lines_px(canvas, [start], [nearest_point(placed.rect, start)], color, max(1, int(round(unit))))
-    explain.paste(canvas, image, placed.rect[0], placed.rect[1], color, 1.0)
+    paste(canvas, image, placed.rect[0], placed.rect[1], color, 1.0)
 
 
 def funnel_figure(canvas, rect, view, state, unit) -> None:
@@ -141,8 +142,8 @@ def _text(canvas, text: str, left: float, top: float, unit: float, color, room: 
     """A line of the funnel, shrunk to its room, and kept in the frame's layout (measured)."""
     if text:
         pixels = explain.NOTE_PIXELS * unit
-        typeset = explain.text_image(text, pixels)
-        image = explain.fit_width(typeset, room)
-        rect = explain.paste(canvas, image, int(round(left)), int(round(top)), color, 1.0)
+        typeset = text_image(text, pixels)
+        image = fit_width(typeset, room)
+        rect = paste(canvas, image, int(round(left)), int(round(top)), color, 1.0)
         if layout is not None:
-            layout.keep("funnel", text, rect, explain.text_pixels(pixels) * image.shape[1] / typeset.shape[1], bound)
+            layout.keep("funnel", text, rect, text_pixels(pixels) * image.shape[1] / typeset.shape[1], bound)
