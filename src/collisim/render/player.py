@@ -226,6 +226,12 @@ class PanelPlayer:
                           int(b.candidates[row]), int(b.pair_collisions[row]), self._collisions,
                           self.approximate_frames, past, hierarchy=b.hierarchy[row], memory=self._memory)
 
+    def draw_reads_memory(self, canvas) -> bool:
+        """draw, and say whether the drawing read or wrote state.memory (what earlier frames kept)."""
+        self._memory.touched = False
+        self.draw(canvas)
+        return self._memory.touched
+
     def again(self) -> "PanelPlayer":
         """A new player of the same panel, from its first sample, drawn at the same scale."""
         return PanelPlayer(self.source, self.rect, self.video_fps, self.video_frames, self.frame_height)

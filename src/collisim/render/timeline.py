@@ -78,9 +78,7 @@ class Timeline:
         np.copyto(canvas, self.background)
         for k, player in enumerate(self._players):
             player.advance(local)
-            player._memory.touched = False
-            player.draw(canvas)
-            if player._memory.touched:
+            if player.draw_reads_memory(canvas):
                 remembering.append(k)
         if not remembering:
             return
