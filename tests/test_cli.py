@@ -192,16 +192,16 @@ def test_api_raises_value_error_with_the_same_messages(tmp_path, monkeypatch):
 
 
 def test_interrupted_render_leaves_no_file(tmp_path, monkeypatch):
-    from collisim.render import player
+    from collisim.render import timeline
     calls = {"n": 0}
-    original = player.draw_frame
+    original = timeline.draw_frame
 
     def interrupt(*args, **kwargs):
         calls["n"] += 1
         if calls["n"] == 5:
             raise KeyboardInterrupt
         return original(*args, **kwargs)
-    monkeypatch.setattr(player, "draw_frame", interrupt)
+    monkeypatch.setattr(timeline, "draw_frame", interrupt)
     with pytest.raises(KeyboardInterrupt):
         collisim.render(collisim.load_scene("single_bounce"), tmp_path / "v.mp4", size=(128, 72))
     assert list(tmp_path.iterdir()) == []
