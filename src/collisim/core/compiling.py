@@ -35,6 +35,7 @@ compiles one, and saves it: its "numba:compiler_lock" event, numba.core.event), 
 takes a lock on a file in the folder. The process that waits then finds what the other saved and
 loads it instead of compiling it again.
 """
+import atexit
 import functools
 import hashlib
 import os
@@ -100,26 +101,37 @@ def use_cache_folder() -> None:
 
 
 class _FolderLock(event.Listener):
-    """numba's compiler lock, extended to every process keeping kernels in one folder."""
+    """numba's compiler lock, extended to every process keeping kernels in one folder: one lock
+    file, opened once a process and closed at its exit (a file opened per compile was left open
+    by a signal that ended the process mid-compile, and Python said so on the way out). The
+    process's own threads take turns through `threads`, since a file lock is the process's."""
 
     def __init__(self, path: str):
-        self.path = path
-        self.held = threading.local()   # per thread: (depth, open file)
+        self.path, self.file = path, None
+        self.threads = threading.Lock()
+        self.depth = threading.local()   # per thread: how deep in numba's (re-entrant) lock
 
     def on_start(self, event_):
-        depth, file = getattr(self.held, "state", (0, None))
+        depth = getattr(self.depth, "value", 0)
         if depth == 0:
-            file = open(self.path, "a")
-            fcntl.flock(file, fcntl.LOCK_EX)   # another process compiling: wait for it
-        self.held.state = (depth + 1, file)
+            self.threads.acquire()
+            try:
+                if self.file is None:
+                    self.file = open(self.path, "a")
+                    atexit.register(self.file.close)
+                fcntl.flock(self.file, fcntl.LOCK_EX)   # another process compiling: wait for it
+            except BaseException:
+                self.threads.release()
+                raise
+        self.depth.value = depth + 1
 
     def on_end(self, event_):
-        depth, file = self.held.state
-        if depth == 1:
-            fcntl.flock(file, fcntl.LOCK_UN)
-            file.close()
-            file = None
-        self.held.state = (depth - 1, file)
+        self.depth.value -= 1
+        if self.depth.value == 0:
+            try:
+                fcntl.flock(self.file, fcntl.LOCK_UN)
+            finally:
+                self.threads.release()
 
 
 def compile_one_process_at_a_time() -> None:
