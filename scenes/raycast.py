@@ -1,4 +1,4 @@
-"""Ray queries: a sensor sweeping rays through the 250-particle gas, each hit with its point and normal, and a fast missile that a ray of its own step never lets through."""
+"""Ray queries: a sensor sweeping rays through a gas of 250 particles, discs and polygons, each hit with its point and normal, and a fast missile that a ray of its own step never lets through."""
 import numpy as np
 
 import collisim
@@ -6,6 +6,7 @@ from collisim import palette
 from collisim.gas import lattice_gas
 from collisim.render import raster
 from collisim.render.explain import Caption, Explainer
+from collisim.shapes import box, regular
 
 BOX = (0.0, 0.0, 32.0, 18.0)
 SENSOR = np.array([16.0, 9.0])
@@ -13,13 +14,28 @@ RAYS = 48
 REACH = 11.0                 # how far the sensor sees
 TURN = 0.35                  # radians per second the fan of rays turns
 NORMAL_LENGTH = 0.6
+POLYGON_EVERY = 2            # one large particle in this many is a polygon: rays hit faces and corners too
 MISSILE_SPEED = 75.0         # world units a second: 1.25 a frame, several radii of the smallest particle
 LAUNCH_EVERY = 1.5           # seconds
 
 
+def polygon_of(k: int, radius: float) -> np.ndarray:
+    """The k-th polygon of the gas, within a circle of `radius` (its lattice spot): a box, a
+    triangle, a pentagon, a hexagon in turn."""
+    if k % 4 == 0:
+        return box(1.6 * radius, 1.2 * radius)    # half-diagonal = radius
+    return regular((3, 5, 6)[k % 4 - 1], radius)
+
+
 def gas_world() -> collisim.World:
     positions, velocities, radii = lattice_gas(250, box=BOX, speed=3.0, seed=7)
-    return collisim.World(positions=positions, velocities=velocities, radii=radii, box=BOX)
+    large = np.flatnonzero(radii == radii.max())[::POLYGON_EVERY]
+    polygons = [None] * len(positions)
+    for k, i in enumerate(large):
+        polygons[i] = polygon_of(k, radii[i])
+    spins = np.random.default_rng(8).uniform(-2.0, 2.0, len(positions))
+    return collisim.World(positions=positions, velocities=velocities, radii=radii, box=BOX, polygons=polygons,
+                          angles=np.linspace(0.0, 7.0, len(positions)), angular_velocities=spins)
 
 
 def missile_path(launch: int):
@@ -45,8 +61,7 @@ def missile_hits(world):
     first hit of each launch is kept in state.memory["missile hits"] as (time, point, normal,
     particle, inside). A ray that starts inside a particle (the particle moved onto the
     missile during the step) has no surface in front of it: the query says so (inside, normal
-    (0, 0)), and the hit kept is the particle's surface nearest the missile, with its outward
-    normal."""
+    (0, 0)), and that is what is kept."""
     def count(before, after):
         launch = int(after.time // LAUNCH_EVERY)
         start_time, start, velocity = missile_path(launch)
@@ -55,16 +70,11 @@ def missile_hits(world):
             return 0
         origin = start + velocity * max(before.time - start_time, 0.0)
         step = velocity * (after.time - start_time) - (origin - start)
-        hit = collisim.raycast(world, origin, step, float(np.hypot(*step)), positions=after.positions)
+        hit = collisim.raycast(world, origin, step, float(np.hypot(*step)), positions=after.positions,
+                               angles=after.angles)
         if hit is None or hit.kind != "body":
             return 0
-        point, normal = hit.point, hit.normal
-        if hit.inside:
-            centre, radius = after.positions[hit.index], world.radii[hit.index]
-            outward = origin - centre
-            normal = outward / np.hypot(*outward)
-            point = centre + radius * normal
-        hits[launch] = (after.time, point, normal, hit.index, hit.inside)
+        hits[launch] = (after.time, hit.point, hit.normal, hit.index, hit.inside)
         return 1
     return count
 
@@ -98,7 +108,8 @@ class RaysOverlay:
             when, point, normal, particle, inside = hits[launch]
             age = state.time - when
             raster.draw_rings(canvas, view.to_pixels(point[None]), [4.0 + 40.0 * age], palette.FLASH, 2)
-            raster.draw_lines(canvas, view, [point], [point + 1.5 * normal], palette.FLASH, 2)
+            if not inside:
+                raster.draw_lines(canvas, view, [point], [point + 1.5 * normal], palette.FLASH, 2)
         else:
             position = start + velocity * (state.time - start_time)
             tail = start + velocity * max(state.time - self.dt - start_time, 0.0)   # from the wall, never behind it
@@ -108,27 +119,16 @@ class RaysOverlay:
 def sensor_rays(world, state):
     """The sensor's rays at this sample: where each starts, its direction, the query's RayHits
     and the particle the sensor sits in (-1 for none), asked once a sample (the overlay draws
-    them, a caption counts them). Particles drift over the sensor: a ray that starts inside one
-    has no surface in front of it, and the query says so (inside, distance 0, normal (0, 0)).
-    As its documentation suggests, such rays step out where they leave the particle and are
-    cast again from there for what lies beyond."""
+    them, a caption counts them). Particles drift over the sensor; its rays look past the one
+    that holds it (skip_inside, Box2D's rule) and report what lies beyond."""
     kept = state.memory.get("sensor")
     if kept is None or kept[0] != state.sample:
         directions = sensor_fan(state.time)
         starts = np.repeat(SENSOR[None], RAYS, axis=0)
-        found = collisim.raycast_many(world, starts, directions, REACH, positions=state.positions)
-        inside = found.inside & (found.kinds == found.KIND_NAMES.index("body"))
-        holder = int(found.indices[inside][0]) if inside.any() else -1
-        if inside.any():
-            centre, radius = state.positions[holder], world.radii[holder]
-            offset = SENSOR - centre
-            along = directions[inside] @ offset
-            # where the ray leaves it, and a billionth of a radius beyond: rounded onto the circle
-            # a start may still fall inside it
-            out = -along + np.sqrt(along ** 2 - (offset @ offset - radius ** 2)) + 1e-9 * radius
-            starts[inside] = SENSOR + out[:, None] * directions[inside]
-            found = collisim.raycast_many(world, starts, directions, REACH - np.where(inside, out, 0.0),
-                                          positions=state.positions)
+        found = collisim.raycast_many(world, starts, directions, REACH, positions=state.positions,
+                                      angles=state.angles, skip_inside=True)
+        here = collisim.raycast(world, SENSOR, (1.0, 0.0), 0.0, positions=state.positions, angles=state.angles)
+        holder = here.index if here is not None and here.inside and here.kind == "body" else -1
         kept = state.memory["sensor"] = (state.sample, starts, directions, found, holder)
     return kept[1:]
 
@@ -140,7 +140,7 @@ def sensor_status(world):
         _, _, found, holder = sensor_rays(world, state)
         bodies = int(np.sum(found.kinds == found.KIND_NAMES.index("body")))
         walls = int(np.sum(found.kinds == found.KIND_NAMES.index("wall")))
-        inside = f"in particle {holder}, cast from its edge: " if holder >= 0 else ""
+        inside = f"in particle {holder}, looking past it: " if holder >= 0 else ""
         return (f"sensor {inside}of {RAYS} rays, {bodies} hit a particle, {walls} a wall; "
                 f"exact tests {int(found.tested.sum())} of {RAYS * world.n}")
     return text
@@ -169,7 +169,7 @@ def missile_status(state, dt: float) -> str:
     _, point, normal, particle, inside = hits[launch]
     where = f"({point[0]:.2f}, {point[1]:.2f}), normal ({normal[0]:.2f}, {normal[1]:.2f})"
     if inside:
-        return f"missile {launch + 1}: particle {particle} moved onto it; nearest surface {where}"
+        return f"missile {launch + 1}: particle {particle} moved onto it at ({point[0]:.2f}, {point[1]:.2f})"
     return f"missile {launch + 1}: hit particle {particle} at {where}"
 
 

@@ -117,3 +117,32 @@ def test_a_recorded_frame_casts_at_its_own_turns():
     assert flat.distance == pytest.approx(3.5) and turned.distance == pytest.approx(2.0)
     with pytest.raises(ValueError, match="angles must be 1 finite numbers"):
         collisim.raycast(world, (10.0, 9.0), (0.0, -1.0), angles=[np.nan])
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_skip_inside_looks_past_the_bodies_that_hold_the_origin_and_nothing_else(name):
+    """Rays from inside polygons and circles with skip_inside=True answer as the same rays in the
+    world without the bodies that hold their origins (brute force by removal), whichever broad
+    phase searches; without it they are inside."""
+    rng = np.random.default_rng(5)
+    polygons = polygon_world()
+    positions = np.vstack([polygons.positions, [[8.0, 8.0], [20.0, 14.0]]])
+    shapes = [box(2.0, 1.0), regular(3, 1.1), regular(6, 0.9), box(0.6, 2.2)]
+    listed = [shapes[k % len(shapes)] for k in range(polygons.n)] + [None, None]
+    world = collisim.World(positions, radii=1.2, polygons=listed, angles=np.append(polygons.angles, [0.0, 0.0]),
+                           box=BOX)
+    holders = [0, 9, 23, world.n - 2, world.n - 1]
+    origins = world.positions[holders] + rng.uniform(-0.2, 0.2, (len(holders), 2))
+    directions = rng.normal(size=(len(holders), 2))
+    held = collisim.raycast_many(world, origins, directions, REACH, name)
+    assert held.inside.all() and (held.indices == holders).all()
+    looked = collisim.raycast_many(world, origins, directions, REACH, name, skip_inside=True)
+    for k, holder in enumerate(holders):
+        keep = np.arange(world.n) != holder
+        alone = collisim.World(world.positions[keep], radii=world.radii[keep],
+                               polygons=[listed[i] for i in np.flatnonzero(keep)], angles=world.angles[keep], box=BOX)
+        expected = collisim.raycast(alone, origins[k], directions[k], REACH)
+        assert not looked.inside[k] and looked.distance[k] == pytest.approx(expected.distance, abs=1e-12)
+        index = expected.index + (expected.kind == "body" and expected.index >= holder)
+        assert (looked.KIND_NAMES[looked.kinds[k]], looked.indices[k]) == (expected.kind, index)
+        np.testing.assert_allclose(looked.normals[k], expected.normal, atol=1e-12)

@@ -4,6 +4,7 @@ import re
 
 import numpy as np
 import pytest
+from shapely.geometry import Point
 
 import collisim
 from collisim.render.player import FrameState
@@ -208,11 +209,20 @@ def test_two_bodies_reads_its_before_and_after_at_the_impact_and_they_conserve()
     assert momentum_before == momentum_after and energy_before == energy_after
 
 
+def outline(world, positions, angles, i):
+    """Body i's outline at a frame as shapely sees it: its circle, or its polygon placed there."""
+    from shapely.geometry import Point, Polygon
+    if world.shapes[i] == collisim.core.kinds.POLYGON:
+        placed = world.placed_vertices(positions, angles)
+        return Polygon(placed[world.vertex_start[i]:world.vertex_start[i + 1]])
+    return Point(positions[i]).buffer(world.radii[i], 4096)
+
+
 def test_raycast_missile_hits_a_particles_surface_with_its_normal_at_every_video_rate():
     """The missile's ray covers every physics step whatever the video's rate (at -ql a drawn
-    frame is four steps: a ray of one step left three unchecked, and its next ray started inside
-    the particle it had passed, normal (0, 0)); each hit shown is on the particle's circle, at the
-    engine's recorded position, with the outward normal there."""
+    frame is four steps: a ray of one step left three unchecked); each hit shown lies on the
+    particle's outline, disc or polygon, at the engine's recorded pose, with a unit normal
+    facing the missile (or, where the particle moved onto it, inside with normal (0, 0))."""
     module = scene_module("raycast")
     scene = module.scene()
     trajectory = collisim.simulate(scene)
@@ -221,17 +231,24 @@ def test_raycast_missile_hits_a_particles_surface_with_its_normal_at_every_video
         *_, last = played_scene(scene, quality)
         found[quality] = last.memory["missile hits"]
     assert found["l"].keys() == found["h"].keys() and len(found["l"]) >= 5
+    shapes = set()
     for launch, (when, point, normal, particle, inside) in found["l"].items():
         assert found["h"][launch][:1] + found["h"][launch][3:] == (when, particle, inside)
-        centre = trajectory.positions[int(round(when * trajectory.fps)), particle]
-        assert np.hypot(*normal) == pytest.approx(1.0)
-        assert point - centre == pytest.approx(scene.world.radii[particle] * normal)
+        frame = int(round(when * trajectory.fps))
+        shape = outline(scene.world, trajectory.positions[frame], trajectory.angles[frame], particle)
+        _, start, velocity = module.missile_path(launch)
+        if inside:
+            assert tuple(normal) == (0.0, 0.0) and shape.buffer(1e-9).contains(Point(point))
+            continue
+        assert shape.exterior.distance(Point(point)) < 1e-6 and np.hypot(*normal) == pytest.approx(1.0)
+        assert normal @ velocity < 0
+        shapes.add(int(scene.world.shapes[particle]))
+    assert shapes, "every missile started inside a particle"
 
 
-def test_raycast_missile_starting_inside_a_particle_shows_its_nearest_surface_and_normal():
+def test_raycast_missile_starting_inside_a_particle_says_so():
     """A particle that moved onto the missile during a step: the query answers inside, normal
-    (0, 0); the scene keeps the particle's surface point nearest the missile and its outward
-    normal, and says the particle moved onto it."""
+    (0, 0), and the scene keeps that and says the particle moved onto it."""
     module = scene_module("raycast")
     start_time, start, velocity = module.missile_path(0)
     before_time, after_time = 0.1, 0.1 + 1 / 60
@@ -244,9 +261,7 @@ def test_raycast_missile_starting_inside_a_particle_shows_its_nearest_surface_an
     memory = {}
     assert module.missile_hits(world)(frame(before_time), frame(after_time)) == 1
     when, point, normal, particle, inside = memory["missile hits"][0]
-    outward = (origin - centre) / np.hypot(*(origin - centre))
-    assert inside and particle == 0 and normal == pytest.approx(outward)
-    assert point == pytest.approx(centre + 0.5 * outward)
+    assert inside and particle == 0 and tuple(normal) == (0.0, 0.0) and point == pytest.approx(origin)
     assert "moved onto it" in module.missile_status(frame(after_time), 1 / 60)
 
 
@@ -281,57 +296,59 @@ def test_collision_map_says_its_resolution_and_counts_the_engines_map_contacts()
 
 
 def test_raycast_sensor_caption_counts_hits_as_brute_force_finds_them():
-    """Rays of particles hit, against every particle tested: the nearest circle each ray meets
-    within its reach, before the walls."""
+    """Rays that hit a particle, disc or polygon, and rays that reach a wall, as brute force
+    finds them with shapely (each ray's segment against every outline but the one holding the
+    sensor), and the point of the first ray that hits a particle as the query gave it."""
+    from shapely.geometry import LineString
     module = scene_module("raycast")
     scene = module.scene().with_options(seconds=0.5)
     world = scene.world
+    assert set(world.shapes) == {collisim.core.kinds.CIRCLE, collisim.core.kinds.POLYGON}
     for state in list(played_scene(scene))[::3]:
-        origins, directions, _, holder = module.sensor_rays(world, state)
-        reach = module.REACH - np.hypot(*(origins - module.SENSOR).T)   # rays from inside step out first
-        exact = collisim.raycast_many(world, origins, directions, reach, broadphase="brute",
-                                      positions=state.positions)
-        to_centres = state.positions[None] - origins[:, None]                     # (rays, n, 2)
-        along = np.einsum("rnk,rk->rn", to_centres, directions)
-        miss2 = np.einsum("rnk,rnk->rn", to_centres, to_centres) - along ** 2
-        entry = along - np.sqrt(np.maximum(world.radii ** 2 - miss2, 0.0))
-        meets = (miss2 <= world.radii ** 2) & (along > 0) & (entry <= reach[:, None])
-        ahead = np.where(directions > 0, np.array(module.BOX[2:]), np.array(module.BOX[:2])) - origins
-        with np.errstate(divide="ignore", invalid="ignore"):
-            wall = np.where(directions != 0, ahead / directions, np.inf).min(axis=1)   # the wall it leaves by
-        first_body = np.where(meets, entry, np.inf).min(axis=1)
-        particles = int(np.sum(first_body <= np.minimum(wall, reach)))
-        walls = int(np.sum((wall <= reach) & (first_body > wall)))
-        found = numbers(module.sensor_status(world)(state))[(holder >= 0):]
-        assert found[:3] == [module.RAYS, particles, walls]
-        assert found[-1] == module.RAYS * world.n and found[-2] <= found[-1]
-        example = module.sensor_example(world)(state)
+        origins, directions, found, holder = module.sensor_rays(world, state)
+        outlines = [outline(world, state.positions, state.angles, i) for i in range(world.n)]
+        particles = walls = 0
+        for origin, direction in zip(origins, directions):
+            ahead = np.where(direction > 0, np.array(module.BOX[2:]), np.array(module.BOX[:2])) - origin
+            with np.errstate(divide="ignore"):
+                wall = np.where(direction != 0, ahead / direction, np.inf).min()    # the wall it leaves by
+            ray = LineString([origin, origin + module.REACH * direction])
+            met = [float(np.min((np.array([c for g in getattr(m, "geoms", [m]) for c in g.coords]) - origin)
+                                @ direction))
+                   for i, o in enumerate(outlines) if i != holder and not (m := ray.intersection(o)).is_empty]
+            first = min(met, default=np.inf)
+            particles += first <= min(wall, module.REACH)
+            walls += wall <= module.REACH and first > wall
+        shown = numbers(module.sensor_status(world)(state))[(holder >= 0):]
+        assert shown[:3] == [module.RAYS, particles, walls]
+        assert shown[-1] == module.RAYS * world.n and shown[-2] <= shown[-1]
         if particles:   # the point and normal of the first ray that hits a particle, as the query gave them
-            k = int(np.flatnonzero(exact.kinds == exact.KIND_NAMES.index("body"))[0])
-            assert f"ray {k + 1} at ({exact.points[k, 0]:.2f}, {exact.points[k, 1]:.2f})" in example
-        assert (exact.kinds == exact.KIND_NAMES.index("body")).sum() == particles
+            k = int(np.flatnonzero(found.kinds == found.KIND_NAMES.index("body"))[0])
+            assert f"ray {k + 1} at ({found.points[k, 0]:.2f}, {found.points[k, 1]:.2f})" in module.sensor_example(world)(state)
 
 
-def test_raycast_sensor_inside_a_particle_says_so_and_casts_from_where_its_rays_leave_it():
-    """A particle drifting over the sensor: every ray starts inside it, where the query has no
-    surface to give (inside, normal (0, 0)); the scene says so and casts each ray again from the
-    particle's edge, so every point and normal shown is a real surface's."""
+@pytest.mark.parametrize("shape", ["disc", "polygon"])
+def test_raycast_sensor_inside_a_particle_looks_past_it_and_says_so(shape):
+    """A particle, disc or polygon, drifting over the sensor: its rays look past it (the query
+    has no surface in front of a ray that starts inside), every point and normal shown is
+    another surface's, and the caption says which particle the sensor is in."""
     module = scene_module("raycast")
     scene = module.scene().with_options(seconds=0.1)
     world = scene.world
     state = next(iter(played_scene(scene)))
     state.positions = state.positions.copy()
-    holder = int(np.argmax(world.radii))
+    kind = collisim.core.kinds.POLYGON if shape == "polygon" else collisim.core.kinds.CIRCLE
+    holder = int(np.flatnonzero(world.shapes == kind)[0])
     state.positions[holder] = module.SENSOR + [0.1, -0.05]
     apart = np.hypot(*(state.positions - state.positions[holder]).T) - world.radii - world.radii[holder]
     state.positions[(apart < 0) & (np.arange(world.n) != holder)] += [0.0, 3.0]   # clear room around it
     state.memory.clear()
     starts, directions, found, inside = module.sensor_rays(world, state)
     assert inside == holder
-    np.testing.assert_allclose(np.hypot(*(starts - state.positions[holder]).T), world.radii[holder], rtol=1e-8)
     hit = np.isfinite(found.distance)
     assert not found.inside.any() and np.allclose(np.hypot(*found.normals[hit].T), 1.0)
-    assert module.sensor_status(world)(state).startswith(f"sensor in particle {holder}, cast from its edge:")
+    assert not np.any((found.kinds == found.KIND_NAMES.index("body")) & (found.indices == holder))
+    assert module.sensor_status(world)(state).startswith(f"sensor in particle {holder}, looking past it:")
 
 
 def test_tunneling_remedies_slower_or_more_frames_miss_none_where_the_fast_run_misses():

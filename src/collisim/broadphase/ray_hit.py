@@ -28,9 +28,10 @@ BODY, SEGMENT, MAP, WALL = 0, 1, 2, 3
 HIT_KINDS = ("body", "segment", "map", "wall")
 SLACK = 64 * np.finfo(np.float64).eps
 
-Ray = namedtuple("Ray", ["ox", "oy", "ux", "uy", "max_distance", "scale"])
+Ray = namedtuple("Ray", ["ox", "oy", "ux", "uy", "max_distance", "scale", "skip_inside"])
 Ray.__doc__ = """The segment o + t·u, t in [0, max_distance], u a unit vector; scale is the size of
-the coordinates the search handles (|ox| + |oy| + the largest world coordinate), for the slack."""
+the coordinates the search handles (|ox| + |oy| + the largest world coordinate), for the slack;
+skip_inside: a body whose solid holds the origin is not hit (the ray looks past it)."""
 
 
 @njit(cache=True)
@@ -87,6 +88,8 @@ def test_body(bodies, i, ray, best):
                      lo[i, 0], lo[i, 1], hi[i, 0], hi[i, 1]) == np.inf:
         return best
     t, nx, ny, inside = ray_body(shapes, positions, radii, vertices, start, i, ray.ox, ray.oy, ray.ux, ray.uy)
+    if inside and ray.skip_inside:
+        return best
     return keep_closer(best, t, inside, BODY, i, nx, ny, ray.max_distance)
 
 

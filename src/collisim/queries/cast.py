@@ -61,19 +61,21 @@ def record(out, k, ray, best):
 
 
 @njit(cache=True)
-def cast_rays(state, bodies, box, segments, map_segments, in_map, origins, units, max_distances, scale, out):
+def cast_rays(state, bodies, box, segments, map_segments, in_map, origins, units, max_distances, scale, skip_inside,
+              out):
     """The closest hit of each ray origins[k] + t·units[k], t in [0, max_distances[k]].
 
     state: the broad phase's (ray_closest.RAY_STATES); bodies: (shapes (n,), positions (n, 2),
     radii (n,), lo (n, 2), hi (n, 2)), lo and hi their bounding boxes; box: (4,); segments, map_segments: SegmentGrid; in_map: (m,) bool; origins,
     units: (m, 2); max_distances: (m,); scale: the largest world coordinate (for the pruning
-    slack); out: the arrays of a RayHits (distance, points, normals, kinds, indices, inside,
+    slack); skip_inside: bodies holding a ray's origin are looked past; out: the arrays of a
+    RayHits (distance, points, normals, kinds, indices, inside,
     visited, tested), filled in place.
     """
     visited, tested = out[6], out[7]
     for k in range(origins.shape[0]):
         ox, oy = origins[k, 0], origins[k, 1]
-        ray = Ray(ox, oy, units[k, 0], units[k, 1], max_distances[k], scale + abs(ox) + abs(oy))
+        ray = Ray(ox, oy, units[k, 0], units[k, 1], max_distances[k], scale + abs(ox) + abs(oy), skip_inside)
         best = statics_closest(box, segments, map_segments, in_map[k], ray)
         best, visited[k], tested[k] = body_ray_closest(state, bodies, ray, best)
         record(out, k, ray, best)

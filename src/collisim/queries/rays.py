@@ -95,7 +95,7 @@ class RayHits:
 
 
 def raycast(world, origin, direction, max_distance=math.inf, broadphase=AUTO, *,
-            positions=None, angles=None) -> RayHit | None:
+            positions=None, angles=None, skip_inside=False) -> RayHit | None:
     """The first thing the ray origin + t·u, t in [0, max_distance], u = direction / |direction|,
     hits in `world`, or None (see the module docstring for what counts as a hit).
 
@@ -103,23 +103,25 @@ def raycast(world, origin, direction, max_distance=math.inf, broadphase=AUTO, *,
     broadphase.NAMES (all give the same answer); positions: (n, 2) body centres, and angles (n,)
     the polygons' turns, to use instead of the world's own (a recorded frame). A ray starting
     inside a body (a circle or a polygon), the map's solid or
-    outside the box returns distance 0, point = origin, normal (0, 0), inside True. Raises
+    outside the box returns distance 0, point = origin, normal (0, 0), inside True; with
+    skip_inside=True a body holding the origin is looked past instead (Box2D's rule), and the
+    ray reports what lies beyond it (the map's solid and the box still count as inside). Raises
     ValueError for a zero or non-finite direction, a non-finite origin, or a negative or NaN
     max_distance.
     """
     check_ray(origin, direction, max_distance)
     hits = raycast_many(world, np.reshape(origin, (1, 2)), np.reshape(direction, (1, 2)), max_distance,
-                        broadphase, positions=positions, angles=angles)
+                        broadphase, positions=positions, angles=angles, skip_inside=skip_inside)
     return hits.hit(0)
 
 
 def raycast_many(world, origins, directions, max_distance=math.inf, broadphase=AUTO, *,
-                 positions=None, angles=None) -> RayHits:
+                 positions=None, angles=None, skip_inside=False) -> RayHits:
     """The first hits of m rays, in one compiled call: the broad phase's structure and the
     segment indices are built once.
 
     origins, directions: (m, 2); max_distance: a number or (m,), each >= 0, inf allowed;
-    broadphase, positions, angles: as for raycast. Raises ValueError, naming the ray, for a bad one.
+    broadphase, positions, angles, skip_inside: as for raycast. Raises ValueError, naming the ray, for a bad one.
     """
     origins, units, max_distances = check_rays(origins, directions, max_distance)
     name = broadphase_name(world, broadphase)
@@ -131,7 +133,7 @@ def raycast_many(world, origins, directions, max_distance=math.inf, broadphase=A
            np.empty(m, bool), np.empty(m, np.int64), np.empty(m, np.int64))
     scale = world_scale(world.box, lo, hi, segments.segments, map_segments.segments)
     cast_rays(ray_state(name, lo, hi), bodies, np.asarray(world.box, np.float64), segments, map_segments, in_map,
-              origins, units, max_distances, scale, out)
+              origins, units, max_distances, scale, bool(skip_inside), out)
     return RayHits(*out, broadphase=name)
 
 
