@@ -21,7 +21,6 @@ import numpy as np
 from numba import njit
 
 import collisim
-from collisim.broadphase.step import step_state
 from collisim.engine.discrete import DiscreteStepper
 from collisim.model.trajectory import LEVELS
 from collisim.engine.hierarchy import circle_pairs, count_levels, false_positive_rates

@@ -118,7 +118,7 @@ def test_bodies_carry_angles_that_turn_at_their_angular_velocity():
 
 
 def test_auto_picks_a_broad_phase_by_what_the_world_holds_and_says_which():
-    from collisim.broadphase.step import choose
+    from collisim.broadphase.registry import choose
     few = collisim.World([[1.0, 1.0], [3.0, 1.0]], radii=0.5)
     gas = collisim.load_scene("particles_250").world
     big = lattice_gas(300, box=(0, 0, 60, 60), speed=1.0, seed=2)

@@ -31,22 +31,9 @@ pair kernels from compiled code through step.py.
 import numpy as np
 
 from ._common import BroadPhase
-from .brute import BruteForce
-from .bvh import BoundingVolumeHierarchy
-from .cell_list import CellList
-from .grid import UniformGrid
-from .kdtree import KDTree
-from .sweep_prune import SweepAndPrune
+from .registry import BROAD_PHASES, NAMES, PROTOCOL
 
 __all__ = ["NAMES", "PROTOCOL", "BroadPhase", "describe", "find_pairs", "make", "query", "raycast"]
-
-NAMES = ("brute", "sweep_prune", "grid", "kdtree", "bvh")
-# Every structure that answers the protocol: the five, and ccd's cell lists (cell_list.py),
-# which the discrete step does not use.
-PROTOCOL = NAMES + ("cells",)
-
-_CLASSES = {cls.name: cls for cls in (BruteForce, SweepAndPrune, UniformGrid, KDTree,
-                                       BoundingVolumeHierarchy, CellList)}
 
 
 def make(name: str, **options) -> BroadPhase:
@@ -55,9 +42,9 @@ def make(name: str, **options) -> BroadPhase:
     Options: grid: ``cell_size``; kdtree: ``leaf_size``, ``max_depth``;
     bvh: ``leaf_size``. Raises ValueError for an unknown name or option.
     """
-    if name not in _CLASSES:
+    if name not in BROAD_PHASES:
         raise ValueError(f"unknown broad phase {name!r}; choose one of: {', '.join(PROTOCOL)}")
-    cls = _CLASSES[name]
+    cls = BROAD_PHASES[name].protocol
     unknown = sorted(set(options) - set(cls.OPTIONS))
     if unknown:
         valid = ", ".join(cls.OPTIONS) or "none"

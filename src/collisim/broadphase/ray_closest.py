@@ -16,15 +16,15 @@ ray_hit.search_limit, which shrinks as hits are found:
   if the ray enters it beyond the limit (which may have shrunk since it was pushed).
 
 Each returns (best, visited, tested): the nodes, cells or boxes it examined and the bodies it
-tested exactly. The state each needs is a namedtuple (RAY_STATES); `body_ray_closest(state,
-...)` picks the kernel by the state's type when the caller is compiled, as step.py does for
-the pairs, so one compiled ray loop serves every broad phase and each choice is cached apart.
+tested exactly. The state each needs is a namedtuple, registered with its broad phase in
+registry.py; `body_ray_closest(state, ...)` picks the kernel by the state's type when the
+caller is compiled, as for the pairs, so one compiled ray loop serves every broad phase and
+each choice is cached apart.
 """
 from collections import namedtuple
 
 import numpy as np
 from numba import njit
-from numba.extending import overload
 
 from ._common import bounding_box
 from ._rays import farther_then_nearer, ray_box_entry
@@ -71,22 +71,6 @@ def kdtree_rays(lo, hi) -> KDTreeRays:
 def bvh_rays(lo, hi) -> BVHRays:
     """The BVH with BoundingVolumeHierarchy's default leaf size."""
     return BVHRays(*build_bvh(lo, hi, BoundingVolumeHierarchy().leaf_size)[:6])
-
-
-RAY_STATES = {
-    "brute": lambda lo, hi: BruteRays(len(lo)),
-    "sweep_prune": sweep_rays,
-    "grid": grid_rays,
-    "kdtree": kdtree_rays,
-    "bvh": bvh_rays,
-}
-
-
-def ray_state(name: str, lo, hi):
-    """The structure broad phase `name` searches, built over the bodies' boxes lo, hi (n, 2),
-    float64, C-contiguous. With no bodies every name gets brute force's (there is nothing to
-    build a structure over, and nothing to find)."""
-    return RAY_STATES[name if len(lo) else "brute"](lo, hi)
 
 
 # ------------------------------------------------------------ the traversals
@@ -214,20 +198,8 @@ def bvh_ray_closest(state, bodies, ray, best):
     return best, visited, tested
 
 
-RAY_KERNELS = {BruteRays: brute_ray_closest, SweepRays: sweep_ray_closest, GridRays: grid_ray_closest,
-               KDTreeRays: kdtree_ray_closest, BVHRays: bvh_ray_closest}
-
-
 def body_ray_closest(state, bodies, ray, best):
     """(best, visited, tested) after searching the bodies with the broad phase whose state this
-    is (compiled code only). bodies: as for ray_hit.test_body."""
+    is (compiled code only; registry.py picks the kernel by the state's type). bodies: as for
+    ray_hit.test_body."""
     raise NotImplementedError("body_ray_closest is called from compiled code")
-
-
-@overload(body_ray_closest)
-def _body_ray_closest(state, bodies, ray, best):
-    kernel = RAY_KERNELS[state.instance_class]
-
-    def impl(state, bodies, ray, best):
-        return kernel(state, bodies, ray, best)
-    return impl

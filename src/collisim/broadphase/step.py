@@ -4,8 +4,9 @@ Each method keeps what it needs between steps in a small state (a namedtuple of 
 numbers): sweep and prune its sorted order, the grid its fixed layout over the box and the
 scratch of its home-cell filing (grid_home.py), the trees their options.
 `candidate_pairs(state, lo, hi)` is one compiled function whose implementation
-is chosen by the *type* of the state when the step is compiled (numba's overload), so a run
-compiles only the broad phase it uses and each choice is cached on its own.
+is chosen by the *type* of the state when the step is compiled (numba's overload, registered
+with each broad phase in registry.py), so a run compiles only the broad phase it uses and each
+choice is cached on its own.
 
 Every kernel returns pairs (k, 2) intp with i < j, each pair once, containing every pair of
 overlapping boxes — in the method's own order: the step puts them in canonical order itself
@@ -16,7 +17,6 @@ from collections import namedtuple
 
 import numpy as np
 from numba import njit
-from numba.extending import overload
 
 from .brute import brute_force_pairs
 from .bvh import build_bvh, bvh_pairs
@@ -52,39 +52,15 @@ def box_grid(box, radii) -> GridState:
                      *home_scratch(home_nx, home_ny, n))
 
 
-STATES = {
-    "brute": lambda world: BruteState(world.n),
-    "sweep_prune": lambda world: SweepState(np.arange(world.n), np.full(1, -1, np.intp)),
-    "grid": lambda world: box_grid(world.box, world.radii),
-    "kdtree": lambda world: KDTreeState(2, 32),
-    "bvh": lambda world: BVHState(2),
-}
+def sweep_state(world) -> SweepState:
+    """Sweep and prune's state before its first sort: the identity order, no axis yet."""
+    return SweepState(np.arange(world.n), np.full(1, -1, np.intp))
 
 
-AUTO = "auto"
-BRUTE_UP_TO = 64        # bodies: up to this, testing every pair beats building anything (the
-                        # polygons scene's 60 bodies: 3 us brute force, 7 us the grid)
-SIZE_SPREAD = 8.0       # largest radius / median radius beyond which the grid's cells fit badly
-
-
-def choose(world) -> str:
-    """The broad phase `auto` picks for a world: brute force for a handful of bodies, the
-    uniform grid (the fastest in `collisim bench broadphase` at every n) when the bodies have
-    similar sizes, and the BVH when a few are much larger than the rest (the grid's cells are
-    sized by the typical body, so a large one would be filed in many cells)."""
-    if world.n <= BRUTE_UP_TO:
-        return "brute"
-    if world.radii.max() > SIZE_SPREAD * np.median(world.radii):
-        return "bvh"
-    return "grid"
-
-
-def step_state(name: str, world):
-    """The state the discrete step keeps for broad phase `name` (or `auto`) over `world`."""
-    return STATES[choose(world) if name == AUTO else name](world)
-
-
-def _brute(state, lo, hi):
+# Plain functions: registry.py hands the state's kernel to numba as candidate_pairs'
+# implementation, so each is compiled once, inside the step (a jitted kernel behind a jitted
+# wrapper was two compiles, about a second more on a first run).
+def brute_pairs(state, lo, hi):
     return brute_force_pairs(lo, hi)
 
 
@@ -104,7 +80,7 @@ def _sweep_axis(lo, hi):
     return 1 if spread[1] > spread[0] else 0
 
 
-def _sweep(state, lo, hi):
+def sweep_pairs(state, lo, hi):
     n = lo.shape[0]
     axis = _sweep_axis(lo, hi)
     keys = lo[:, axis].copy()
@@ -116,7 +92,7 @@ def _sweep(state, lo, hi):
     return sweep(lo, hi, state.order, axis)
 
 
-def _grid(state, lo, hi):
+def grid_step_pairs(state, lo, hi):
     # Each box filed once, in its home cell, and the boxes gathered into cell order (grid_home.py),
     # in cells as wide as the widest box, when that is at most twice the grid's own cells and the
     # scratch holds the boxes; otherwise each box in every cell it overlaps (grid.py).
@@ -131,27 +107,16 @@ def _grid(state, lo, hi):
     return grid_pairs(lo, hi, state.origin, state.cells_per_unit, state.nx, state.ny, start, boxes)
 
 
-def _kdtree(state, lo, hi):
+def kdtree_step_pairs(state, lo, hi):
     return kdtree_pairs(lo, hi, state.leaf_size, state.max_depth)[0]
 
 
-def _bvh(state, lo, hi):
+def bvh_step_pairs(state, lo, hi):
     order, node_lo, node_hi, first, count, left, _ = build_bvh(lo, hi, state.leaf_size)
     return bvh_pairs(lo, hi, order, node_lo, node_hi, first, count, left)
 
 
-# Plain functions: the overload below hands the state's kernel to numba as candidate_pairs'
-# implementation, so each is compiled once, inside the step (a jitted kernel behind a jitted
-# wrapper was two compiles, about a second more on a first run).
-KERNELS = {BruteState: _brute, SweepState: _sweep, GridState: _grid, KDTreeState: _kdtree, BVHState: _bvh}
-
-
 def candidate_pairs(state, lo, hi):
     """Candidate pairs of boxes lo, hi (n, 2), n >= 2, for the broad phase whose state this is
-    (compiled code only)."""
+    (compiled code only; registry.py picks the kernel by the state's type)."""
     raise NotImplementedError("candidate_pairs is called from compiled code")
-
-
-@overload(candidate_pairs)
-def _candidate_pairs(state, lo, hi):
-    return KERNELS[state.instance_class]

@@ -30,7 +30,8 @@ import numpy as np
 from numba import njit
 
 from ..core.arrays import copy_rows
-from ..broadphase.step import AUTO, candidate_pairs, choose, step_state
+from ..broadphase.registry import AUTO, choose, step_state
+from ..broadphase.step import candidate_pairs
 from ..core.geometry.polygon import place_polygons
 from ..core.kinds import CIRCLE, MAP, N_WALLS, PAIR, SEGMENT, SUPPORT, WALL
 from .hierarchy import level_scratch, record_levels

@@ -65,7 +65,7 @@ def cast_rays(state, bodies, box, segments, map_segments, in_map, origins, units
               out):
     """The closest hit of each ray origins[k] + t·units[k], t in [0, max_distances[k]].
 
-    state: the broad phase's (ray_closest.RAY_STATES); bodies: (shapes (n,), positions (n, 2),
+    state: the broad phase's ray structure (registry.ray_state); bodies: (shapes (n,), positions (n, 2),
     radii (n,), lo (n, 2), hi (n, 2)), lo and hi their bounding boxes; box: (4,); segments, map_segments: SegmentGrid; in_map: (m,) bool; origins,
     units: (m, 2); max_distances: (m,); scale: the largest world coordinate (for the pruning
     slack); skip_inside: bodies holding a ray's origin are looked past; out: the arrays of a

@@ -38,9 +38,8 @@ import numpy as np
 
 from ..broadphase import NAMES
 from ..broadphase._rays import check_ray
-from ..broadphase.ray_closest import ray_state
+from ..broadphase.registry import AUTO, choose, ray_state
 from ..broadphase.ray_hit import HIT_KINDS
-from ..broadphase.step import AUTO, choose
 from .segment_rays import segment_grid
 from .cast import cast_rays, unit_directions
 
