@@ -259,11 +259,16 @@ def test_the_bytes_do_not_depend_on_how_the_rows_are_split_between_threads():
     the rows between threads from bands.BAND_DISCS discs on, gives those bytes too."""
     centres, radii, colors = _mixed_discs(bands.BAND_DISCS + 500, 8)
     one = np.zeros((180, 320, 3), np.uint8)
-    splat.splat_discs(one, (0, 0, 320, 180), *splat._prepare(one, centres, radii, colors), 0.5)
+    filled = splat._read_only(np.full(len(centres), -1.0))
+
+    def discs(canvas, clip):
+        centre_args, radius_args, color_args = splat._prepare(canvas, centres, radii, colors)
+        splat.splat_rings(canvas, clip, centre_args, radius_args, filled, color_args, 0.5)
+    discs(one, (0, 0, 320, 180))
     for rows in ([0, 180], [0, 90, 180], [0, 1, 2, 77, 78, 179, 180], list(range(0, 181, 13)) + [180]):
         banded = np.zeros_like(one)
         for top, bottom in zip(rows[:-1], rows[1:]):
-            splat.splat_discs(banded, (0, top, 320, bottom), *splat._prepare(banded, centres, radii, colors), 0.5)
+            discs(banded, (0, top, 320, bottom))
         np.testing.assert_array_equal(banded, one)
     assert len(bands._bands((0, 0, 320, 180), len(centres), threads=2)) == 2
     threaded = np.zeros_like(one)

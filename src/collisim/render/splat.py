@@ -152,25 +152,6 @@ def _off_clip(cx, cy, r, clip):
         cx + r + 1.0 < left or cy + r + 1.0 < top or cx - r - 1.0 > right or cy - r - 1.0 > bottom)
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
-def splat_discs(canvas, clip, centres, radii, colors, bias):
-    """Draw discs into canvas (h, w, 3), in order, touching only the pixels of clip: (left, top,
-    right, bottom), columns [left, right) and rows [top, bottom), within the canvas. centres
-    (n, 2) float pixels, radii (n,) pixels, colors (n, 3) in the canvas's channel order, bias 0.5
-    for integer canvases (rounding), 0.0 for float ones. Discs with a non-finite centre or radius,
-    or radius <= 0, are skipped."""
-    if clip[2] <= clip[0] or clip[3] <= clip[1]:
-        return
-    scratch = np.empty((SCRATCH, SCRATCH))
-    for n in range(centres.shape[0]):
-        cx, cy, r = centres[n, 0], centres[n, 1], radii[n]
-        if r > 0.0 and not _off_clip(cx, cy, r, clip):
-            if r < TINY:
-                _tent(canvas, clip, cx, cy, math.pi * r * r, _color(colors, n), bias)
-            else:
-                _covered_disc(canvas, clip, cx, cy, r, _color(colors, n), bias, scratch)
-
-
 @njit(cache=True, error_model="numpy")
 def _small_ring(canvas, clip, cx, cy, outer, inner, color, bias, scratch, inner_scratch):
     """A ring of outer radius in [TINY, SMALL): each disc's fractions computed once into its own
@@ -233,10 +214,14 @@ def _ring(canvas, clip, cx, cy, outer, inner, color, bias, scratch, inner_scratc
 
 @njit(cache=True, nogil=True, error_model="numpy")
 def splat_rings(canvas, clip, centres, radii, thickness, colors, bias):
-    """Draw rings into canvas (h, w, 3), in order: the annulus between radii - thickness/2 and
-    radii + thickness/2 (each (n,) pixels; an inner radius <= 0 makes a disc, and so does a
-    negative thickness: the disc of radius radii, cv2's FILLED). Other arguments as for
-    splat_discs."""
+    """Draw rings and discs into canvas (h, w, 3), in order, touching only the pixels of clip:
+    (left, top, right, bottom), columns [left, right) and rows [top, bottom), within the canvas.
+    Each is the annulus between radii - thickness/2 and radii + thickness/2 (each (n,) pixels;
+    an inner radius <= 0 makes a disc, and so does a negative thickness: the disc of radius
+    radii, cv2's FILLED). centres (n, 2) float pixels, colors (n, 3) in the canvas's channel
+    order, bias 0.5 for integer canvases (rounding), 0.0 for float ones. Shapes with a
+    non-finite centre or radius, or an outer radius <= 0, are skipped. Discs and rings are one
+    kernel: a first render compiles one, not two."""
     if clip[2] <= clip[0] or clip[3] <= clip[1]:
         return
     scratch = np.empty((SCRATCH, SCRATCH))
@@ -302,7 +287,9 @@ def draw_discs(canvas, centres_px, radii_px, colors, clip=None) -> None:
     drawn (clip_rect); discs keep their shapes, cut at its edges."""
     centres, radii, colors = _prepare(canvas, centres_px, radii_px, colors)
     if len(centres):
-        in_bands(splat_discs, canvas, clip_rect(canvas, clip), len(centres), centres, radii, colors, _bias(canvas))
+        filled = _read_only(np.full(len(centres), -1.0))
+        in_bands(splat_rings, canvas, clip_rect(canvas, clip), len(centres), centres, radii, filled, colors,
+                 _bias(canvas))
 
 
 def draw_annuli(canvas, centres_px, radii_px, thickness_px, colors, clip=None) -> None:
