@@ -251,19 +251,14 @@ def test_a_reader_that_stops_reading_ends_the_listing_quietly():
     assert process.wait(timeout=120) == 0 and err == "", err
 
 
-def test_the_command_ends_with_mains_status_and_the_collector_frozen():
-    """cli.run, the `collisim` command: the exit status is main's (0, and 2 for a bad scene), and
-    the objects there are at the end are frozen (Python's last collection skips them), while
-    main alone, the API, leaves the caller's collector as it was."""
-    ends = textwrap.dedent("""
-        import atexit, gc, sys
-        from collisim.cli import run
-        atexit.register(lambda: print("frozen", gc.get_freeze_count()))
-        run(sys.argv[1:])
-    """)
+def test_the_command_ends_with_mains_status_and_main_leaves_the_callers_collector_alone():
+    """cli.run, the `collisim` command: the exit status is main's (0, and 2 with one line for a
+    bad scene); main alone, the API, leaves the caller's garbage collector as it was (the
+    command freezes its objects at the end so that Python's last collection skips them: a
+    library must not do that to its caller)."""
+    ends = "import sys; from collisim.cli import run; run(sys.argv[1:])"
     listed = subprocess.run([sys.executable, "-c", ends, "list"], capture_output=True, text=True, timeout=120)
-    assert listed.returncode == 0, listed.stderr
-    assert int(listed.stdout.split("frozen")[-1]) > 10_000   # numba's registries and the dispatchers at least
+    assert listed.returncode == 0 and "particles_250" in listed.stdout, listed.stderr
     bad = subprocess.run([sys.executable, "-c", ends, "render", "no_such_scene"], capture_output=True, text=True,
                          timeout=120)
     assert bad.returncode == 2 and bad.stderr.count("\n") == 1 and "unknown scene" in bad.stderr, bad.stderr
