@@ -36,7 +36,8 @@ The references:
 
 The CSV has a row per (packing, method, n); ``ns_per_particle`` is seconds_per_frame / n, and
 collisim's rows carry ``step_over_pymunk`` and ``step_over_minimal``, its time divided by the
-two references' at the same packing and n.
+two references' at the same packing and n (the medians' ratio), and ``over_pymunk_range`` and
+``over_minimal_range``, the lowest and highest ratio of one round's times.
 
 Writes ``broadphase.csv`` and ``broadphase.png`` to the output folder.
 """
@@ -58,7 +59,7 @@ REFERENCES = ("scipy_ckdtree", "pymunk_step", "minimal_step", "discrete_step", "
 COLLISIM = ("discrete_step", "simulate")     # the rows with ratios to the two step references
 PACKINGS = (0.1, 0.3, 0.5)
 COLUMNS = ("packing", "method", "n", "seconds_per_frame", "ns_per_particle", "candidates", "true_pairs",
-           "step_over_pymunk", "step_over_minimal")
+           "step_over_pymunk", "step_over_minimal", "over_pymunk_range", "over_minimal_range")
 STEP_WORK = 200_000   # particle-steps per timing of a whole step: 200 steps at n = 1000...
 MIN_TIMED_STEPS = 21  # ...and at least this many (three of pymunk's re-indexing periods, see below)
 WARM_STEPS = 300      # steps of every whole-step engine before it is timed: 5 simulated seconds
@@ -161,7 +162,13 @@ RESTARTING = ("simulate",)     # starts from the scene's start every call: warme
 
 
 def time_whole_steps(scene, repeats: int, names=tuple(STEPPERS), warm_steps: int = WARM_STEPS) -> dict:
-    """{name: median seconds per step} of each whole step on its own copy of the same gas, after
+    """{name: median seconds per step} of each whole step (see whole_step_rounds)."""
+    return {name: float(np.median(values)) for name, values in whole_step_rounds(scene, repeats, names,
+                                                                                   warm_steps).items()}
+
+
+def whole_step_rounds(scene, repeats: int, names=tuple(STEPPERS), warm_steps: int = WARM_STEPS) -> dict:
+    """{name: seconds per step in each round} of each whole step on its own copy of the same gas, after
     `warm_steps` steps (compilation, and the steady state: see the module docstring), over runs of
     STEP_WORK / n steps (at least MIN_TIMED_STEPS). The repeats are rounds over the steppers, so
     a burst of load from elsewhere lands on one run of each rather than on every run of one."""
@@ -180,7 +187,7 @@ def time_whole_steps(scene, repeats: int, names=tuple(STEPPERS), warm_steps: int
             start = time.perf_counter()
             advance(steps)
             seconds[name].append((time.perf_counter() - start) / steps)
-    return {name: float(np.median(values)) for name, values in seconds.items()}
+    return {name: np.array(values) for name, values in seconds.items()}
 
 
 def time_discrete_step(scene, repeats: int) -> float:
@@ -234,9 +241,16 @@ def measure(sizes, packing: float, repeats: int, seed: int, progress: bool) -> l
                              candidates=found, true_pairs=true_pairs))
             bar.update()
             bar.set_postfix_str(f"n={n} whole steps")
-            for name, seconds in time_whole_steps(moving_gas(n, packing, seed), repeats).items():
-                rows.append(dict(packing=packing, method=name, n=n, seconds_per_frame=seconds, candidates="",
-                                 true_pairs=""))
+            rounds = whole_step_rounds(moving_gas(n, packing, seed), repeats)
+            for name, seconds in rounds.items():
+                row = dict(packing=packing, method=name, n=n, seconds_per_frame=float(np.median(seconds)),
+                           candidates="", true_pairs="")
+                if name in COLLISIM:     # collisim / a reference in the same round: the range over rounds
+                    for reference, column in (("pymunk_step", "over_pymunk_range"),
+                                              ("minimal_step", "over_minimal_range")):
+                        ratio = seconds / rounds[reference]
+                        row[column] = f"{ratio.min():.2f}-{ratio.max():.2f}"
+                rows.append(row)
                 bar.update()
     return rows
 
@@ -256,7 +270,7 @@ def add_ratios(rows: list[dict]) -> list[dict]:
 
 
 def write_csv(rows: list[dict], path: pathlib.Path) -> None:
-    write_table(path, rows, COLUMNS)
+    write_table(path, [{column: row.get(column, "") for column in COLUMNS} for row in rows], COLUMNS)
 
 
 def plot(rows: list[dict], path: pathlib.Path) -> None:

@@ -71,12 +71,14 @@ def cmd_bench(args) -> int:
             raise ValueError("sizes must be >= 2, repeats >= 1 and packings in (0, 0.5]")
         figures = run(args.out, sizes=args.sizes, packings=args.packing, repeats=args.repeats,
                       progress=not args.no_progress)
+        ranges = {(row["packing"], row["n"], row["method"]): (row["over_pymunk_range"], row["over_minimal_range"])
+                  for row in figures["rows"] if row["method"] in ("discrete_step", "simulate")}
+        print(f"collisim / a reference in the same round, range over {args.repeats} rounds:")
         for (packing, n), best in figures["fastest_vs_ckdtree"].items():
-            found = figures["ratios"][(packing, n)]
-            print(f"packing {packing:g} n={n}: fastest {best['method']}, {best['ratio']:.2f} x cKDTree build + "
-                  f"query_pairs; engine / pymunk {found['engine / pymunk']:.2f}, / minimal step "
-                  f"{found['engine / minimal']:.2f}; simulate() / pymunk {found['simulate / pymunk']:.2f}, "
-                  f"/ minimal step {found['simulate / minimal']:.2f}")
+            engine, simulate = ranges[(packing, n, "discrete_step")], ranges[(packing, n, "simulate")]
+            print(f"packing {packing:g} n={n}: fastest broad phase {best['method']}, {best['ratio']:.2f} x cKDTree; "
+                  f"engine / pymunk {engine[0]}, / minimal step {engine[1]}; "
+                  f"simulate() / pymunk {simulate[0]}, / minimal step {simulate[1]}")
         print(f"wrote {figures['csv']} and {figures['png']}")
     elif args.kind == "accuracy":
         from .accuracy import run

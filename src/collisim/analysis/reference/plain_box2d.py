@@ -19,6 +19,7 @@ Box2D keeps its state in float32 and holds polygons of at most 8 vertices.
 from __future__ import annotations
 
 import time
+import warnings
 
 import numpy as np
 
@@ -32,28 +33,36 @@ NOT_INSTALLED = "Box2D 2.3 not installed (pip install box2d)"
 def missing() -> str | None:
     """None when Box2D 2.3 can be imported, else the line to print instead of its figures."""
     try:
-        import Box2D  # noqa: F401
+        box2d()
     except ImportError:
         return NOT_INSTALLED
     return None
+
+
+def box2d():
+    """The Box2D module, imported without the notes its SWIG types give Python 3.12's import
+    ("builtin type SwigPyPacked has no __module__ attribute")."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)
+        import Box2D
+    return Box2D
 
 
 class PlainBox2D:
     """A default Box2D 2.3 world holding a collisim World (see the module docstring)."""
 
     def __init__(self, world):
-        from Box2D import b2EdgeShape, b2World
-
+        b2 = box2d()
         self.world = world
         mu, e = float(world.friction), float(world.restitution)
         if not world.uniform_acceleration:
             raise ValueError("Box2D's baseline needs one gravity for every body")
         gravity = world.accelerations[0] if world.n else world.gravity
-        self.b2 = b2World(gravity=tuple(float(g) for g in gravity))
+        self.b2 = b2.b2World(gravity=tuple(float(g) for g in gravity))
         xmin, ymin, xmax, ymax = (float(v) for v in world.box)
         edges = [(xmin, ymin, xmin, ymax), (xmax, ymin, xmax, ymax), (xmin, ymin, xmax, ymin),
                  (xmin, ymax, xmax, ymax), *(tuple(float(v) for v in s) for s in world.level_segments)]
-        ground = self.b2.CreateStaticBody(shapes=[b2EdgeShape(vertices=[(x0, y0), (x1, y1)])
+        ground = self.b2.CreateStaticBody(shapes=[b2.b2EdgeShape(vertices=[(x0, y0), (x1, y1)])
                                                   for x0, y0, x1, y1 in edges])
         for fixture in ground.fixtures:
             fixture.friction, fixture.restitution = mu, e
