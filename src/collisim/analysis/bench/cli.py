@@ -71,9 +71,11 @@ def cmd_bench(args) -> int:
             raise ValueError("sizes must be >= 2, repeats >= 1 and packings in (0, 0.5]")
         figures = run(args.out, sizes=args.sizes, packings=args.packing, repeats=args.repeats,
                       progress=not args.no_progress)
-        ranges = {(row["packing"], row["n"], row["method"]): (row["over_pymunk_range"], row["over_minimal_range"])
+        ranges = {(row["packing"], row["n"], row["method"]):
+                  (f"{row['step_over_pymunk']:.2f} ({row['over_pymunk_range']})",
+                   f"{row['step_over_minimal']:.2f} ({row['over_minimal_range']})")
                   for row in figures["rows"] if row["method"] in ("discrete_step", "simulate")}
-        print(f"collisim / a reference in the same round, range over {args.repeats} rounds:")
+        print(f"collisim / a reference: the medians' ratio (the range of one round's ratio over {args.repeats} rounds)")
         for (packing, n), best in figures["fastest_vs_ckdtree"].items():
             engine, simulate = ranges[(packing, n, "discrete_step")], ranges[(packing, n, "simulate")]
             print(f"packing {packing:g} n={n}: fastest broad phase {best['method']}, {best['ratio']:.2f} x cKDTree; "

@@ -83,6 +83,9 @@ class CollisimEngine:
     def asleep(self) -> int:
         return int(np.count_nonzero(self.stepper.sleep.asleep))
 
+    def positions(self) -> np.ndarray:
+        return self.stepper.bodies.positions.copy()
+
 
 class ReferenceEngine:
     """A reference (PlainPymunk or PlainBox2D): its own time_steps and asleep."""
@@ -94,6 +97,10 @@ class ReferenceEngine:
 
     def asleep(self) -> int:
         return self.reference.asleep()
+
+    def positions(self) -> np.ndarray:
+        reference = self.reference
+        return reference.positions() if callable(getattr(reference, "positions", None)) else reference.state()[0]
 
 
 def phases(seconds: float, falling: bool = True) -> dict:
@@ -109,7 +116,7 @@ def phases(seconds: float, falling: bool = True) -> dict:
 
 def time_once(world, fps: float, seconds: float, profile=None) -> tuple[dict, dict]:
     """One repeat: ({engine: (block start times (B,), wall seconds per block (B,), steps per block (B,))},
-    {engine: bodies asleep at the end})."""
+    {engine: (bodies asleep at the end, the farthest a body's centre ended from its start)})."""
     engines = contenders(world, fps, profile)
     total = max(1, int(round(seconds * fps)))
     starts = np.arange(0, total, BLOCK_STEPS)
@@ -118,15 +125,16 @@ def time_once(world, fps: float, seconds: float, profile=None) -> tuple[dict, di
     for b, steps in enumerate(counts):
         for name, engine in engines.items():
             spent[name][b] = engine.advance(int(steps))
-    return ({name: (starts / fps, spent[name], counts) for name in engines},
-            {name: engine.asleep() for name, engine in engines.items()})
+    ends = {name: (engine.asleep(), float(np.max(np.hypot(*(engine.positions() - world.positions).T), initial=0.0)))
+            for name, engine in engines.items()}
+    return {name: (starts / fps, spent[name], counts) for name in engines}, ends
 
 
 def run(seconds: float = 8.0, repeats: int = 3, world=None, fps=None, falling: bool = True) -> tuple[list[dict], dict]:
     """(rows, extra): rows {phase, ms: {engine: median ms per step over repeats}, ratios: {engine:
     [collisim / engine, one a repeat]}} for each phase of the polygons scene (or of `world` at
     `fps`); extra {"profile": collisim's seconds per phase of its step over all repeats,
-    "asleep": {engine: bodies asleep at the end of the last repeat}, "bodies": n}."""
+    "ends": {engine: (bodies asleep, farthest a body moved) at the end of the last repeat}, "bodies": n}."""
     from collisim.engine.profile import Profile
     if not seconds > 0 or int(repeats) != repeats or repeats < 1:
         raise ValueError("seconds must be > 0 and repeats a whole number >= 1")
@@ -148,7 +156,7 @@ def run(seconds: float = 8.0, repeats: int = 3, world=None, fps=None, falling: b
                          ms={engine: 1e3 * float(np.median(times)) for engine, times in per_step.items()},
                          ratios={engine: (ours / np.array(times)).tolist() for engine, times in per_step.items()
                                  if engine != "collisim"}))
-    return rows, dict(profile=dict(profile.seconds), asleep=runs[-1][1], bodies=world.n)
+    return rows, dict(profile=dict(profile.seconds), ends=runs[-1][1], bodies=world.n)
 
 
 def format_rows(rows: list[dict], extra: dict, scene: str = "polygons") -> str:
@@ -164,7 +172,8 @@ def format_rows(rows: list[dict], extra: dict, scene: str = "polygons") -> str:
         cells = "".join(f" {row['ms'][engine]:>9.3f} ({min(row['ratios'][engine]):.2f}-"
                         f"{max(row['ratios'][engine]):.2f})".rjust(27) for engine in others)
         lines.append(f"{row['phase']:<24} {row['ms']['collisim']:>9.3f}{cells}")
-    lines.append("bodies asleep at the end: " + ", ".join(f"{engine} {count}" for engine, count in extra["asleep"].items()))
+    lines.append("at the end, bodies asleep / farthest a body moved from its start: " + ", ".join(
+        f"{engine} {asleep} / {moved:.3g}" for engine, (asleep, moved) in extra["ends"].items()))
     if missing() is not None:
         lines.append(missing())
     profile = extra["profile"]

@@ -126,8 +126,14 @@ class PlainPymunk:
 
     def state(self) -> tuple:
         """(positions (n, 2), velocities (n, 2), angles (n,), angular velocities (n,)) in the
-        World's order, read in one batch call."""
-        return read_state(self.space, self.world.n, self._buffer)
+        World's order, read in one batch call (body by body once sleeping is on: Chipmunk keeps
+        sleeping bodies out of the space's body array, which the batch call reads)."""
+        if self.space.sleep_time_threshold == math.inf:
+            return read_state(self.space, self.world.n, self._buffer)
+        bodies = self.bodies
+        return (np.array([tuple(b.position) for b in bodies]).reshape(-1, 2),
+                np.array([tuple(b.velocity) for b in bodies]).reshape(-1, 2),
+                np.array([b.angle for b in bodies]), np.array([b.angular_velocity for b in bodies]))
 
     def record(self, fps: float, frames: int, substeps: int = 1) -> Trajectory:
         """Advance `frames` frames and record every frame and every contact (see the module
