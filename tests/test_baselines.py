@@ -224,10 +224,14 @@ def test_plain_pymunk_pairs_meet_with_the_worlds_e_and_mu():
     for _ in range(5):
         plain.space.step(1 / 60)
     met = []
+
+    def meet(arbiter):
+        a, b = arbiter.shapes
+        met.append((arbiter.restitution, arbiter.friction, a.body.body_type == b.body.body_type))
+
     for body in plain.bodies:
-        body.each_arbiter(lambda arbiter: met.append((arbiter.restitution, arbiter.friction,
-                                                      arbiter.shapes[0].body.body_type == arbiter.shapes[1].body.body_type)))
-    assert {same for *_, same in met} == {True, False}        # a pair and a body on a wall
+        body.each_arbiter(meet)
+    assert {pair for *_, pair in met} == {True, False}        # a pair and a body on a wall
     assert all(e == pytest.approx(0.3) and mu == pytest.approx(0.4) for e, mu, _ in met)
 
 

@@ -72,6 +72,7 @@ def contenders(world, fps: float, profile=None) -> dict:
 
 
 class CollisimEngine:
+    """collisim's discrete engine (a DiscreteStepper), timed around its run."""
     def __init__(self, stepper):
         self.stepper = stepper
 
@@ -88,7 +89,7 @@ class CollisimEngine:
 
 
 class ReferenceEngine:
-    """A reference (PlainPymunk or PlainBox2D): its own time_steps and asleep."""
+    """A reference (PlainPymunk or PlainBox2D), timed by its own time_steps (the engine's step calls alone)."""
     def __init__(self, reference, fps: float):
         self.reference, self.fps = reference, fps
 
