@@ -91,11 +91,13 @@ def pile(n=10, r=0.3):
 
 
 def test_a_settled_pile_falls_asleep_within_a_few_seconds():
+    """Ten balls dropped into a V come to rest and sleep, every ball, within 3.5 s of the drop
+    (2.5 s under a rule that let slow bodies sleep whatever their acceleration), and stay put."""
     trajectory = run(pile(), 4.0)
     moving = np.any(trajectory.velocities != 0.0, axis=(1, 2)) | np.any(trajectory.angular_velocities != 0.0,
                                                                           axis=1)
     asleep = np.flatnonzero(moving)[-1] + 1
-    assert asleep <= 3.0 * FPS
+    assert asleep <= 3.5 * FPS
     assert np.all(trajectory.positions[asleep:] == trajectory.positions[asleep])
 
 
