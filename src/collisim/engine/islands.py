@@ -34,7 +34,8 @@ the same step. Falling asleep takes out at most ½·m·v_rest² + ½·I·(v_rest
 energy per body.
 
 The state (Sleep) is per body, kept from block to block: rest speed (n,), seconds still (n,),
-the velocity and turning (n, 3) vx, vy, ω the body had when it became still, asleep (n,) bool, island (n,) (the smallest body index in the island it fell asleep with), its
+the velocity and turning (n, 3) vx, vy, ω the body had when it became still, asleep (n,) bool,
+island (n,) (the smallest body index in the island it fell asleep with), its
 acceleration while awake (n, 2), scratch for the islands, and the carried support (c, 5):
 body, wall (N_WALLS + k for segment k), impulse per step, point x, y.
 """
@@ -53,12 +54,11 @@ from .eventlog import append, with_room
 from .rest import default_rest_speed
 
 SLEEP_TIME = 0.5   # seconds an island must be still before it sleeps (Box2D's b2_timeToSleep)
-# the change of velocity, as a fraction of the rest speed, that ends a body's still time. Far
-# above the solver's noise on a held body (1e-7), below what gravity adds in SLEEP_TIME to a
-# slide at 1 % of g (0.45 of the rest speed of a 1 x 0.5 box) or a ball on a 1° slope (0.58
-# rolling, 0.86 sliding). The rocking the solver leaves in a column of sixteen slightly tilted
-# boxes (its top's velocity wanders by up to 0.6 of the rest speed for 12 s and more) is of the
-# same size: it sleeps in 5 s for one column of tests/test_polygon_engine.py and not the other
+# The change of velocity, as a fraction of the rest speed, that ends a body's still time: far
+# above the solver's noise on a held body, below what gravity adds in SLEEP_TIME to a slide at
+# 1 % of g or a ball on a 1° slope (tests/test_sleep_motion.py). The rocking the solver can
+# leave in a tall column of tilted boxes is of the same size, and keeps such a column awake
+# longer: a body the solver still moves is not frozen.
 DRIFT = 0.3
 
 Sleep = namedtuple("Sleep", ["on", "speed", "still", "since", "asleep", "fresh", "island", "pull", "parent", "least",
