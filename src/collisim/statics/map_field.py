@@ -174,6 +174,11 @@ def smooth_distance_grid(solid: np.ndarray, cell: float) -> np.ndarray:
     reach = int(math.ceil(3.0 * OUTLINE_SMOOTHING))
     weights = np.exp(-0.5 * (np.arange(-reach, reach + 1) / OUTLINE_SMOOTHING) ** 2)
     smooth = _average_along(staircase, tangent_x, tangent_y, weights / weights.sum())
+    # Averaged along a direction it does not follow, a feature a pixel or two across (a lone
+    # solid pixel) would average away: no sample comes nearer the outline than half its own
+    # distance, so solid stays solid and free stays free.
+    solid = staircase < 0.0
+    smooth = np.where(solid, np.minimum(smooth, 0.5 * staircase), np.maximum(smooth, 0.5 * staircase))
     smooth *= cell
     return smooth
 
