@@ -86,9 +86,9 @@ def slides():
 
 def test_a_frictionless_ball_on_a_painted_slope_accelerates_at_g_sin_theta(slides):
     error = {k: abs(a / (9.8 * np.sin(THETA)) - 1.0) for k, (a, _) in slides.items()}
-    assert max(error.values()) < 0.02, error   # (on the staircase's field: 58, 25 and 18 %)
-    # finer maps do better; 4 and 8 pixels a radius are both within about 1 % (the step's own
-    # error), so only the finest is asked to beat both
+    assert max(error.values()) < 0.02, error   # (read at the centre, the staircase's: 58, 25 and 18 %)
+    # finer maps do better; 4 and 8 pixels a radius are both within about half a per cent (the
+    # step's own error), so only the finest is asked to beat both
     assert error[16] < min(error[4], error[8]), error
 
 
@@ -102,14 +102,3 @@ def test_a_ball_rolls_down_a_painted_slope_held_by_friction_without_collisions()
     assert collisions == 0
     assert acceleration == pytest.approx(2.0 / 3.0 * 9.8 * np.sin(THETA), rel=0.03)
 
-
-def test_a_version_1_map_file_is_read_with_its_grid_made_again(tmp_path):
-    """Version 1 files held the distance to the pixel staircase; read now, their grid is the
-    smoothed one from_image makes of the same pixels."""
-    from collisim.statics.map_field import signed_distance_grid
-    level = painted_wall_map()
-    arrays = level.to_arrays()
-    arrays.update(map_format=np.array(1, np.int64), distance=signed_distance_grid(level.solid, level.cell))
-    np.savez(tmp_path / "old.npz", **arrays)
-    loaded = collisim.CollisionMap.load(tmp_path / "old.npz")
-    assert np.array_equal(loaded.distance_grid, level.distance_grid)

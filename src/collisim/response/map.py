@@ -34,7 +34,7 @@ import math
 from numba import njit
 
 from ..core.geometry.box import centre_range
-from ..statics.map_field import map_contact, map_sample
+from ..statics.map_field import DEPTH_SLACK, map_contact, map_sample
 
 SAFETY = 1.0 / math.sqrt(2.0)   # the bilinear field's slope is at most sqrt(2) times the distance's
 MIN_ADVANCE = 0.125             # cells: the smallest march step
@@ -54,18 +54,19 @@ def march(field, x, y, dx, dy, radius, sx, sy):
     if length == 0.0:
         return 2.0
     floor = MIN_ADVANCE * field.cell
+    slack = DEPTH_SLACK * field.cell   # the contact's depth is within this of the field's (map_contact)
     travelled = 0.0
     while True:
         f = travelled / length
         d, _, _ = map_sample(field, x + f * dx, y + f * dy)
         gap = d - radius
-        if gap <= 0.0:
-            _, nx, ny = map_contact(field, x + f * dx, y + f * dy, radius)
-            if dx * nx + dy * ny < 0.0 and nx * sx + ny * sy <= SLIDE_COS:
+        if gap <= slack:
+            depth, nx, ny = map_contact(field, x + f * dx, y + f * dy, radius)
+            if depth <= radius and dx * nx + dy * ny < 0.0 and nx * sx + ny * sy <= SLIDE_COS:
                 return f
         if travelled >= length:
             return 2.0
-        travelled = min(length, travelled + max(gap * SAFETY, floor))
+        travelled = min(length, travelled + max((gap - slack) * SAFETY, floor))
 
 
 @njit(cache=True, error_model="numpy")
@@ -77,6 +78,18 @@ def _outward(field, x, y, dx, dy, radius):
         return nx, ny
     length = math.hypot(dx, dy)
     return (-dx / length, -dy / length) if length > 0.0 else (0.0, 1.0)
+
+
+@njit(cache=True, error_model="numpy")
+def _contact_point(field, x, y, radius, nx, ny):
+    """Where a body of radius centred at (x, y) touches the map: a radius along the field's own
+    normal at the centre, which points at the nearest solid (the contact normal, taken across
+    the body, can miss a sharp corner by a fraction of the radius); along (nx, ny) where the field
+    has none."""
+    _, fx, fy = map_sample(field, x, y)
+    if fx == 0.0 and fy == 0.0:
+        fx, fy = nx, ny
+    return x - radius * fx, y - radius * fy
 
 
 @njit(cache=True, error_model="numpy")
@@ -179,7 +192,7 @@ def bounce_off_map(field, box, held, start, positions, velocities, accelerations
         velocities[i, 1] -= (1.0 + restitution) * approach * ny
         if bounces == 0:
             first_impulse = -(1.0 + restitution) * approach * masses[i]
-            cx, cy = x - radii[i] * nx, y - radii[i] * ny
+            cx, cy = _contact_point(field, x, y, radii[i], nx, ny)
         bounces += 1
     # after BOUNCES_PER_STEP contacts in one step the body stays at the last one
     positions[i, 0], positions[i, 1] = x, y

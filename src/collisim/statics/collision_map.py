@@ -4,8 +4,7 @@ A map is made once from an image (CollisionMap.from_image; dark pixels are solid
 answers to "where is the level?":
 
 * a signed distance grid sampled at pixel centres (map_field.py): O(1) per query anywhere, for
-  the discrete step (map_sample, compiled), as accurate as the map's resolution, and smoothed
-  along the outline so that a slanted edge's pixel steps do not make it bumpy;
+  the discrete step (map_sample, compiled), as accurate as the map's resolution;
 * exact segment chains along the pixel edges (map_chains.py), for ccd and for drawing.
 
 Reading the image and drawing one from exact shapes (rasterize_polygons) is map_image.py.
@@ -31,15 +30,12 @@ import numpy as np
 from ..core.files import written_whole
 from ..core.checks import StaticMap, number
 from .map_chains import trace_chains
-from .map_field import MapField, has_map, make_field, map_sample, no_map_field, sample_points, smooth_distance_grid
+from .map_field import MapField, has_map, make_field, map_sample, no_map_field, sample_points, signed_distance_grid
 from .map_image import rasterize_polygons, solid_mask, world_origin
 
 __all__ = ["CollisionMap", "MapField", "map_sample", "has_map", "no_map_field", "rasterize_polygons", "MAP_FORMAT"]
 
-MAP_FORMAT = 2   # the version of the map file written by save()
-# Version 1 held the distance to the pixel staircase; version 2 that distance smoothed along the
-# outline (map_field.py). A version 1 file is still read: its grid is made again from its pixels.
-READS_FORMATS = (1, MAP_FORMAT)
+MAP_FORMAT = 1   # the version of the map file written by save()
 _FILE_KEYS = ("map_format", "solid", "distance", "cell", "origin", "segments", "chain_vertices", "chain_offsets")
 
 
@@ -47,8 +43,7 @@ class CollisionMap(StaticMap):
     """A level precomputed from a bitmap (made by from_image or load).
 
     solid: (ny, nx) bool            the solid pixels, row 0 = the lowest y
-    distance_grid: (ny, nx) float64 signed distance at pixel centres (world units, + free, - solid),
-                                    smoothed along the outline (map_field.smooth_distance_grid)
+    distance_grid: (ny, nx) float64 signed distance at pixel centres (world units, + free, - solid)
     cell: float                     the side of one pixel in world units
     origin: (2,) float64            world position of the lower-left corner
     segments: (k, 4) float64        rows x0, y0, x1, y1: every chain's edges, each chain closed
@@ -92,7 +87,7 @@ class CollisionMap(StaticMap):
         if solid.all():
             raise ValueError(f"the map image is solid everywhere: no pixel is as bright as threshold {threshold:g}")
         chains = [origin + (chain + 0.5) * cell for chain in trace_chains(solid, simplify)]
-        return cls(solid, smooth_distance_grid(solid, cell), cell, origin, _chain_segments(chains), chains)
+        return cls(solid, signed_distance_grid(solid, cell), cell, origin, _chain_segments(chains), chains)
 
     @property
     def field(self) -> MapField:
@@ -155,16 +150,15 @@ class CollisionMap(StaticMap):
         version = arrays.get("map_format")
         if version is None:
             raise ValueError(f"cannot read collision map {path}: not a collisim collision map file")
-        if version.shape != () or version.dtype.kind not in "iu" or int(version) not in READS_FORMATS:
+        if version.shape != () or version.dtype.kind not in "iu" or int(version) != MAP_FORMAT:
             raise ValueError(f"collision map file {path} has format version {version.tolist()!r:.20}; "
-                             f"this collisim reads versions 1 and {MAP_FORMAT}")
+                             f"this collisim reads version {MAP_FORMAT}")
         if set(arrays) != set(_FILE_KEYS) or not _consistent(arrays):
             raise ValueError(f"cannot read collision map {path}: the file is damaged")
         offsets, vertices = arrays["chain_offsets"], arrays["chain_vertices"]
         chains = [vertices[a:b].copy() for a, b in zip(offsets[:-1], offsets[1:])]
-        distance = arrays["distance"] if int(version) == MAP_FORMAT else smooth_distance_grid(arrays["solid"],
-                                                                                              float(arrays["cell"]))
-        return cls(arrays["solid"], distance, float(arrays["cell"]), arrays["origin"], arrays["segments"], chains)
+        return cls(arrays["solid"], arrays["distance"], float(arrays["cell"]), arrays["origin"],
+                   arrays["segments"], chains)
 
     def __repr__(self) -> str:
         ny, nx = self.shape

@@ -16,17 +16,6 @@ Accuracy is the map's resolution: at pixel centres the grid is within (sqrt(2) -
 of the exact distance to the union of solid pixel squares (exact where the nearest solid lies
 straight across an axis-aligned edge), and that union is itself within sqrt(2)/2 of a pixel of
 the shape the image was drawn from.
-
-A slanted outline is a staircase of pixels, and the distance to a staircase is bumpy: a ball
-resting on a painted 20-degree slope sees its normal swing by 10 degrees either way as it passes
-each step's corner, and sliding down it loses energy at every corner (a quarter of its
-acceleration at 8 pixels a radius). So the grid the engine samples is the staircase's distance
-smoothed along the outline, never across it (smooth_along_outline): each sample becomes the
-Gaussian average (OUTLINE_SMOOTHING pixels) of the staircase's distance along the outline's
-direction there. Across the outline nothing is averaged, so a straight axis-aligned edge and a
-one-pixel wall keep their exact profile; along it the steps average out into the slope they
-draw (the normal's wobble falls from 7 to about 1 degree), and a curve's distance moves by about
-OUTLINE_SMOOTHING^2 / (2 R) pixels for a radius of curvature R pixels (corners round off).
 """
 from collections import namedtuple
 import math
@@ -35,9 +24,8 @@ import cv2
 import numpy as np
 from numba import njit
 
-OUTLINE_SMOOTHING = 2.0   # pixels: the Gaussian's deviation along the outline
-TANGENT_BLUR = 2.0        # pixels: the blur of the copy whose gradient gives the outline's direction
-FLAT = 0.5                # a blurred gradient shorter than this is a ridge (a thin corridor's middle): kept as is
+DEPTH_SLACK = 0.5   # pixels: how far a contact's depth may read from the field at its centre (map_contact)
+DEPTH_TAPS = 8      # samples each side of the centre averaged along the outline for a contact's depth
 
 MapField = namedtuple("MapField", ["x0", "y0", "cell", "nx", "ny", "distance"])
 MapField.__doc__ = """A collision map as the compiled step sees it (CollisionMap.field, or no_map_field()).
@@ -123,26 +111,40 @@ def map_sample(field, x, y):
 
 @njit(cache=True)
 def map_contact(field, x, y, radius):
-    """What a body of `radius` centred at (x, y) meets: (d, nx, ny), d the signed distance at the
-    centre (map_sample's) and the normal from the field's central differences a radius either
-    side (at least half a pixel).
+    """What a body of `radius` centred at (x, y) meets: (depth, nx, ny), the distance from the
+    map and the unit normal toward free space, both read across the body rather than at a point.
 
-    Whatever the smoothing, a painted slope's outline wobbles by about a degree at the scale of
-    its pixels, and a body sliding on it loses a little energy each step its contact normal turns
-    (the solver removes the velocity into the new normal): as much at 16 pixels a radius as at 4,
-    since the wobble is a pixel's. Taken across the body, the normal's wobble shrinks as the
-    map gets finer than the body, and the slide converges to the slope's. (The samples stay in
-    free space while the body is no deeper than its radius.) A straight outline's
-    normal is the same at any spacing. Where the differences nearly cancel (the body straddles a
-    ridge of the field, such as a thin corridor's middle), the normal is the field's own there."""
-    d, nx, ny = map_sample(field, x, y)
+    A slanted outline is a staircase of pixels, and the distance to a staircase is bumpy: along a
+    painted 20-degree slope the field a radius out rises and falls by 0.4 of a pixel between the
+    steps' corners, and its normal swings by degrees. A body held on it by the contact solver
+    would be lifted off at each corner and land again faster than the rest speed: a bounce logged
+    as a collision, and energy lost, a quarter of the acceleration down the slope at 8 pixels a
+    radius. So the contact reads the grid (which stays the exact distance to the pixels) as the
+    body spans it:
+
+    * the normal from the field's central differences a radius either side (at least half a
+      pixel); where they nearly cancel (the body straddles a ridge of the field, such as a thin
+      corridor's middle) the field's own normal at the centre (map_sample's);
+    * the depth, the field averaged along the outline (perpendicular to that normal) across the
+      body's width, kept within DEPTH_SLACK pixels of the field's value at the centre. A straight
+      outline reads exactly (the average of a linear field is its value); a staircase reads as
+      the slope it draws; a sharp corner, whose distance the average overstates, lets a body in
+      by at most DEPTH_SLACK pixels. Both settle as the map gets finer than the body."""
+    d, fx, fy = map_sample(field, x, y)
     h = max(radius, 0.5 * field.cell)
     gx = map_sample(field, x + h, y)[0] - map_sample(field, x - h, y)[0]
     gy = map_sample(field, x, y + h)[0] - map_sample(field, x, y - h)[0]
     length = math.hypot(gx, gy)
     if not length > h:   # a slope under 1/2 (true distance has 1): a ridge, or NaN
-        return d, nx, ny
-    return d, gx / length, gy / length
+        return d, fx, fy
+    nx, ny = gx / length, gy / length
+    taps = min(int(math.ceil(h / field.cell)), DEPTH_TAPS)   # each side: a pixel apart, at most DEPTH_TAPS
+    total = d
+    for k in range(1, taps + 1):
+        s = h * k / taps
+        total += map_sample(field, x - s * ny, y + s * nx)[0] + map_sample(field, x + s * ny, y - s * nx)[0]
+    slack = DEPTH_SLACK * field.cell
+    return min(max(total / (2 * taps + 1), d - slack), d + slack), nx, ny
 
 
 @njit(cache=True)
@@ -164,72 +166,6 @@ def signed_distance_grid(solid: np.ndarray, cell: float) -> np.ndarray:
     np.subtract(0.5, _pixel_distances(solid), out=grid, where=solid)   # to the nearest free centre
     grid *= cell
     return grid
-
-
-def smooth_distance_grid(solid: np.ndarray, cell: float) -> np.ndarray:
-    """signed_distance_grid smoothed along the outline (the module's docstring): the grid a map's
-    field holds, in world units, C-contiguous."""
-    staircase = signed_distance_grid(solid, 1.0)
-    tangent_x, tangent_y = _outline_directions(staircase)
-    reach = int(math.ceil(3.0 * OUTLINE_SMOOTHING))
-    weights = np.exp(-0.5 * (np.arange(-reach, reach + 1) / OUTLINE_SMOOTHING) ** 2)
-    smooth = _average_along(staircase, tangent_x, tangent_y, weights / weights.sum())
-    # Averaged along a direction it does not follow, a feature a pixel or two across (a lone
-    # solid pixel) would average away: no sample comes nearer the outline than half its own
-    # distance, so solid stays solid and free stays free.
-    solid = staircase < 0.0
-    smooth = np.where(solid, np.minimum(smooth, 0.5 * staircase), np.maximum(smooth, 0.5 * staircase))
-    smooth *= cell
-    return smooth
-
-
-def _outline_directions(grid: np.ndarray) -> tuple:
-    """(tx, ty) (ny, nx): the unit direction along the outline at each sample, from the gradient
-    of a blurred copy of grid; (0, 0) where that gradient is shorter than FLAT. The copy is
-    padded by odd reflection (2 edge - mirror), so a field linear up to the image border stays
-    linear and its direction exact."""
-    pad = int(math.ceil(4.0 * TANGENT_BLUR)) + 1
-    padded = np.pad(grid, pad, mode="reflect", reflect_type="odd")
-    blurred = cv2.GaussianBlur(padded, (0, 0), TANGENT_BLUR, borderType=cv2.BORDER_REFLECT)[pad:-pad, pad:-pad]
-    gy, gx = np.gradient(blurred)
-    length = np.hypot(gx, gy)
-    steep = length >= FLAT
-    scale = np.where(steep, 1.0 / np.where(steep, length, 1.0), 0.0)
-    return np.ascontiguousarray(-gy * scale), np.ascontiguousarray(gx * scale)
-
-
-@njit(cache=True)
-def _bilinear(grid, u, v):
-    """The grid's bilinear interpolant at column u, row v (sample units), clamped to the samples."""
-    ny, nx = grid.shape
-    u, v = min(max(u, 0.0), nx - 1.0), min(max(v, 0.0), ny - 1.0)
-    j, i = min(int(u), nx - 2) if nx > 1 else 0, min(int(v), ny - 2) if ny > 1 else 0
-    fx, fy = u - j, v - i
-    j1, i1 = min(j + 1, nx - 1), min(i + 1, ny - 1)
-    bottom = grid[i, j] + fx * (grid[i, j1] - grid[i, j])
-    top = grid[i1, j] + fx * (grid[i1, j1] - grid[i1, j])
-    return bottom + fy * (top - bottom)
-
-
-@njit(cache=True)
-def _average_along(grid, tangent_x, tangent_y, weights):
-    """(ny, nx): at each sample, the weighted average of grid at whole-pixel steps along
-    (tangent_x, tangent_y) there (weights (2 reach + 1,), summing to 1); grid itself where the
-    direction is (0, 0)."""
-    ny, nx = grid.shape
-    reach = (weights.shape[0] - 1) // 2
-    out = np.empty_like(grid)
-    for i in range(ny):
-        for j in range(nx):
-            tx, ty = tangent_x[i, j], tangent_y[i, j]
-            if tx == 0.0 and ty == 0.0:
-                out[i, j] = grid[i, j]
-                continue
-            total = 0.0
-            for s in range(-reach, reach + 1):
-                total += weights[s + reach] * _bilinear(grid, j + s * tx, i + s * ty)
-            out[i, j] = total
-    return out
 
 
 def _pixel_distances(mask: np.ndarray) -> np.ndarray:
