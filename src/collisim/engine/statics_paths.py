@@ -69,6 +69,19 @@ def circle_map_rows(bodies, statics, margin, in_pair, found, k, asleep):
     raise NotImplementedError("circle_map_rows is called from compiled code")
 
 
+def open_space(statics):
+    """Has the world neither segments nor a collision map (compiled code only)? Only the box
+    walls then turn a body within a step (response/rows.py: _may_meet)."""
+    raise NotImplementedError("open_space is called from compiled code")
+
+
+@overload(open_space)
+def _open_space(statics):
+    if _lacks(statics, "map"):
+        return lambda statics: statics.segments.shape[0] == 0
+    return lambda statics: statics.segments.shape[0] == 0 and not has_map(statics.map)
+
+
 def map_phase(bodies, statics, start, held, dt, log, now, frame_collisions):
     """Every body's move this step of dt (from start (n, 2)) against the collision map and the
     box walls together (compiled code only; response/map.py): bounces off the map are counted
