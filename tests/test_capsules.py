@@ -230,3 +230,16 @@ def test_a_dropped_capsule_rests_where_pymunk_puts_it():
     ours, theirs = collisim.simulate(scene), simulate_pymunk(scene)
     assert ours.positions[-1, 0, 1] == pytest.approx(theirs.positions[-1, 0, 1], abs=2e-2)
     assert abs(math.remainder(ours.angles[-1, 0] - theirs.angles[-1, 0], math.pi)) < 1e-2
+
+
+def test_raycast_hits_a_standing_capsules_side_and_cap():
+    world = World([(5, 5)], shapes=[capsule(2.0, 0.5)], angles=np.pi / 2, box=BOX)   # core (5, 4)-(5, 6)
+    side = collisim.raycast(world, (1, 5), (1, 0))
+    assert side.kind == "body" and side.distance == pytest.approx(3.5, abs=1e-12)
+    np.testing.assert_allclose(side.normal, [-1.0, 0.0], atol=1e-12)
+    top = collisim.raycast(world, (5, 9), (0, -1))
+    np.testing.assert_allclose(top.point, [5.0, 6.5], atol=1e-12)
+    cap = collisim.raycast(world, (1, 6.2), (1, 0))      # the upper cap's circle, 0.2 above its centre
+    half_chord = math.sqrt(0.5 ** 2 - 0.2 ** 2)
+    np.testing.assert_allclose(cap.point, [5.0 - half_chord, 6.2], atol=1e-12)
+    np.testing.assert_allclose(cap.normal, [-half_chord / 0.5, 0.4], atol=1e-12)
