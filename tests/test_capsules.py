@@ -243,3 +243,25 @@ def test_raycast_hits_a_standing_capsules_side_and_cap():
     half_chord = math.sqrt(0.5 ** 2 - 0.2 ** 2)
     np.testing.assert_allclose(cap.point, [5.0 - half_chord, 6.2], atol=1e-12)
     np.testing.assert_allclose(cap.normal, [-half_chord / 0.5, 0.4], atol=1e-12)
+
+
+def test_a_capsule_is_drawn_filled_to_its_round_ends():
+    from collisim.render import raster
+    from collisim.render.view import View
+    world = World([(5, 5)], shapes=[capsule(4.0, 1.0)], angles=0.0, colors=[(200, 100, 50)], box=BOX)
+    view = View(BOX, (0, 0, 400, 400), margin=0.0)            # 40 pixels a unit, y down
+    canvas = np.zeros((400, 400, 3), np.uint8)
+    outlines, bodies = raster.polygon_outlines(world, world.positions, world.angles)
+    raster.draw_polygons(canvas, [view.to_pixels(o) for o in outlines], world.colors[bodies])
+    filled = canvas.any(axis=2)
+    def at(x, y):
+        column, row = view.to_pixels([x, y])
+        return filled[int(row), int(column)]
+    assert bodies.tolist() == [0] and at(5, 5) and at(3, 5.9) and at(7, 4.1)   # the middle and the sides
+    assert at(7.9, 5.0) and at(2.1, 5.0)                     # the caps' far ends, r beyond the centres
+    assert not at(7.8, 5.8) and not at(2.2, 4.2)             # outside the caps' round corners
+    assert not at(5, 6.2) and not at(8.2, 5.0)
+    # the whole outline: the capsule's area (40² pixels a unit) lies between the pixels fully
+    # inside it (its colour at full strength) and every pixel it touches (edge and anti-aliasing)
+    full = (canvas[:, :, 2] == 200).sum()
+    assert full < 40 ** 2 * world.masses[0] < filled.sum() < 1.05 * 40 ** 2 * world.masses[0]
