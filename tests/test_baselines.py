@@ -8,7 +8,8 @@ import pytest
 
 import collisim
 from collisim.analysis.bench import broadphase
-from collisim.analysis.bench.reference_step import ReferenceStep
+from collisim.analysis.bench.reference_step import MinimalStep
+from collisim.analysis.bench.workloads import packing_fraction, shuffled_gas
 from collisim.analysis.reference import PlainPymunk, simulate_plain_pymunk, simulate_pymunk, time_plain_pymunk
 from collisim.analysis.reference.pymunk_mirror import Mirror
 from collisim.gas import lattice_gas
@@ -41,10 +42,10 @@ def test_plain_pymunk_builds_the_same_world_with_pymunk_defaults():
         assert tuple(body.velocity) == tuple(world.velocities[i])
         (circle,) = body.shapes
         assert isinstance(circle, pymunk.Circle) and circle.radius == world.radii[i]
-        assert (circle.elasticity, circle.friction) == (0.9, 0.0)
+        assert (circle.elasticity ** 2, circle.friction) == (pytest.approx(0.9), 0.0)   # pairs meet with e
     statics = [shape for shape in space.shapes if shape.body.body_type == pymunk.Body.STATIC]
     assert len(statics) == 4 + 1 and all(isinstance(s, pymunk.Segment) and s.radius == 0 for s in statics)
-    assert all((s.elasticity, s.friction) == (0.9, 0.0) for s in statics)
+    assert all((s.elasticity ** 2, s.friction) == (pytest.approx(0.9), 0.0) for s in statics)
     ends = {(tuple(s.a), tuple(s.b)) for s in statics}
     assert ends == {((0, 0), (0, 8)), ((10, 0), (10, 8)), ((0, 0), (10, 0)), ((0, 8), (10, 8)), ((1, 1), (4, 1.5))}
 
@@ -135,56 +136,132 @@ def test_timing_a_plain_run_steps_the_space_only():
         time_plain_pymunk(scene, substeps=0)
 
 
-# --- the reference step ------------------------------------------------------------------------
+# --- the minimal step --------------------------------------------------------------------------
 
-def test_reference_step_head_on_equal_masses_swap_velocities():
-    step = ReferenceStep([[4.0, 5.0], [6.0, 5.0]], [[1.0, 0.0], [-1.0, 0.0]], 0.5, 1.0, (0.0, 0.0, 10.0, 10.0),
-                         dt=0.1)
+def minimal(world, margin=0.0):
+    """The minimal step on a world's gas at 60 fps, its box widened by `margin` on every side."""
+    box = np.asarray(world.box) + np.array([-margin, -margin, margin, margin])
+    return MinimalStep(world.positions, world.velocities, world.radii, world.masses, box, dt=1 / 60)
+
+
+def brute_force_touching(positions, radii) -> int:
+    i, j = np.triu_indices(len(positions), 1)
+    return int(np.count_nonzero(np.hypot(*(positions[i] - positions[j]).T) < radii[i] + radii[j]))
+
+
+def test_minimal_step_head_on_equal_masses_swap_velocities():
+    step = MinimalStep([[4.0, 5.0], [6.0, 5.0]], [[1.0, 0.0], [-1.0, 0.0]], 0.5, 1.0, (0.0, 0.0, 10.0, 10.0),
+                       dt=0.1)
     step.run(8)       # they touch after 5 steps and part
     assert np.allclose(step.velocities, [[-1.0, 0.0], [1.0, 0.0]], rtol=0, atol=1e-15)
 
 
-def test_reference_step_keeps_energy_and_every_particle_in_the_box():
-    """An elastic gas without gravity at packing 0.27 (nearly every particle collides within the
-    first 15 steps), 400 steps: each impulse conserves kinetic energy exactly in exact arithmetic, the
-    push-apart moves positions only and a wall reflection keeps the speed, so the energy can
-    change by round-off alone: ~1e-16 per collision, a few thousand collisions, well under 1e-12
-    (a wrong mass factor in the impulse would change it by 1e-2 or more)."""
-    box = (0.0, 0.0, 20.0, 20.0)
-    n = 360
-    positions, velocities, radii = lattice_gas(n, box=box, speed=6.0, seed=3)
-    masses = np.pi * radii ** 2
-    step = ReferenceStep(positions, velocities, radii, masses, box, dt=1 / 60)
-    energy = step.kinetic_energy()
-    speeds = np.linalg.norm(velocities, axis=1)
-    for _ in range(40):
+def test_minimal_step_finds_every_touching_pair_brute_force_finds():
+    """At packing 0.5 the half stencil must find each touching pair once, across cell edges and
+    in the box's last row and column: its count after a step (positions change only in the move,
+    so its pairs are those of the final positions) against all pairs checked."""
+    world = shuffled_gas(500, 0.5, seed=4)
+    step = minimal(world)
+    found = []
+    for _ in range(6):
         step.run(10)
-        inside = (step.positions >= np.asarray(box[:2]) + radii[:, None]) & \
-                 (step.positions <= np.asarray(box[2:]) - radii[:, None])
-        assert inside.all()
-    assert abs(step.kinetic_energy() - energy) <= 1e-12 * energy
-    changed = np.abs(np.linalg.norm(step.velocities, axis=1) - speeds) > 1e-6 * speeds
-    assert changed.mean() > 0.9       # they did collide: only pair impulses change a speed
-    assert np.array_equal(np.sort(step.data[6]), np.arange(n))      # every particle still there once
+        found.append(step.touching)
+        assert step.touching == brute_force_touching(step.positions, world.radii)
+    assert min(found) > 5
+
+
+def test_minimal_step_keeps_energy_and_momentum_and_the_bodies_in_the_box():
+    """An elastic gas at packing 0.3, 120 steps: each impulse keeps kinetic energy and momentum
+    in exact arithmetic and a wall reflection keeps the speed, so energy changes by round-off
+    alone (a wrong mass factor would change it by 1e-2 or more); in a box widened so that no
+    body reaches a wall, momentum too."""
+    world = shuffled_gas(300, 0.3, seed=5)
+    for margin in (0.0, 40.0):
+        step = minimal(world, margin)
+        energy, momentum = step.kinetic_energy(), step.momentum()
+        scale = float(np.sum(world.masses * np.hypot(*world.velocities.T)))
+        step.run(120)
+        assert abs(step.kinetic_energy() - energy) <= 1e-12 * energy
+        if margin:
+            assert np.abs(step.momentum() - momentum).max() <= 1e-12 * scale
+        low, high = np.asarray(step.box[:2]), np.asarray(step.box[2:])
+        r = world.radii[:, None]
+        assert ((step.positions >= low + r) & (step.positions <= high - r)).all()
+        assert np.array_equal(np.sort(step.ids), np.arange(world.n))      # every body still there once
+    changed = np.abs(np.hypot(*step.velocities.T) - np.hypot(*world.velocities.T)) > 1e-6
+    assert changed.mean() > 0.5       # they did collide: only pair impulses change a speed
+
+
+def test_the_shuffled_gas_is_the_laid_out_gas_in_another_order():
+    """The same bodies (position, velocity, radius) as the gas laid out row by row, in an order
+    unrelated to where they are; at the packing asked, none overlapping."""
+    laid_out, mixed = shuffled_gas(400, 0.5, seed=2, shuffle=False), shuffled_gas(400, 0.5, seed=2)
+
+    def rows(world):
+        table = np.column_stack([world.positions, world.velocities, world.radii])
+        return table[np.lexsort(table.T[::-1])]
+
+    assert np.array_equal(rows(laid_out), rows(mixed))
+    assert not np.array_equal(laid_out.positions, mixed.positions)
+    rank = np.argsort(np.argsort(mixed.positions[:, 1]))      # row order: index against height
+    assert abs(np.corrcoef(rank, np.arange(400))[0, 1]) < 0.15
+    assert packing_fraction(mixed) == pytest.approx(0.5)
+    assert brute_force_touching(mixed.positions, mixed.radii) == 0
+
+
+# --- matched materials -------------------------------------------------------------------------
+
+def two_boxes_on_the_floor():
+    from collisim.shapes import box
+    return collisim.World([[3.0, 0.5], [3.2, 1.5]], polygons=[box(1.0, 1.0)] * 2, angles=0.0,
+                          box=(0.0, 0.0, 8.0, 6.0), gravity=(0.0, -10.0), restitution=0.3, friction=0.4)
+
+
+def test_plain_pymunk_pairs_meet_with_the_worlds_e_and_mu():
+    """Chipmunk multiplies the shapes' elasticity and friction: every touching pair, box on box
+    and box on the floor, must meet with the World's e = 0.3 and μ = 0.4 (not 0.09 and 0.16)."""
+    plain = PlainPymunk(two_boxes_on_the_floor())
+    for _ in range(5):
+        plain.space.step(1 / 60)
+    met = []
+
+    def meet(arbiter):
+        a, b = arbiter.shapes
+        met.append((arbiter.restitution, arbiter.friction, a.body.body_type == b.body.body_type))
+
+    for body in plain.bodies:
+        body.each_arbiter(meet)
+    assert {pair for *_, pair in met} == {True, False}        # a pair and a body on a wall
+    assert all(e == pytest.approx(0.3) and mu == pytest.approx(0.4) for e, mu, _ in met)
+
+
+def test_box2d_pairs_meet_with_the_worlds_e_and_mu():
+    """Box2D mixes friction as √(μa·μb) and restitution as max: its touching contacts, box on box
+    and box on the floor, must carry the World's e and μ (float32)."""
+    pytest.importorskip("Box2D")
+    from collisim.analysis.reference.box2d_world import Box2DWorld
+    reference = Box2DWorld(two_boxes_on_the_floor(), 60.0)
+    reference.step(5)
+    touching = [contact for contact in reference.b2.contacts if contact.touching]
+    assert len(touching) == 2
+    assert all(c.restitution == pytest.approx(0.3, rel=1e-6) and c.friction == pytest.approx(0.4, rel=1e-6)
+               for c in touching)
 
 
 # --- the benches' new columns -----------------------------------------------------------------
 
-def test_broadphase_bench_reports_plain_pymunk_and_the_reference_step(tmp_path):
-    figures = broadphase.run(tmp_path, sizes=(50, 200), repeats=1, progress=False)
+def test_broadphase_bench_reports_plain_pymunk_and_the_minimal_step(tmp_path):
+    figures = broadphase.run(tmp_path, sizes=(50, 200), packings=(0.3,), repeats=1, progress=False)
     with open(figures["csv"], newline="") as file:
         rows = list(csv.DictReader(file))
     assert tuple(rows[0]) == broadphase.COLUMNS
-    assert {"pymunk_step", "reference_step", "discrete_step"} <= {row["method"] for row in rows}
+    assert {"pymunk_step", "minimal_step", "discrete_step", "simulate"} <= {row["method"] for row in rows}
     for n in (50, 200):
         time_of = {row["method"]: float(row["seconds_per_frame"]) for row in rows if row["n"] == str(n)}
         (step,) = (row for row in rows if row["n"] == str(n) and row["method"] == "discrete_step")
-        assert float(step["step_over_pymunk"]) == pytest.approx(time_of["discrete_step"] / time_of["pymunk_step"])
-        assert float(step["step_over_reference"]) == pytest.approx(time_of["discrete_step"] / time_of["reference_step"])
-        assert figures["discrete_vs_reference"][n] == pytest.approx(float(step["step_over_reference"]))
-        assert figures["discrete_vs_pymunk"][n] == pytest.approx(float(step["step_over_pymunk"]))
-        assert float(step["ns_per_particle"]) == pytest.approx(1e9 * time_of["discrete_step"] / n)
-    assert all(row["step_over_pymunk"] == "" for row in rows if row["method"] != "discrete_step")
+        assert float(step["step_over_minimal"]) == pytest.approx(time_of["discrete_step"] / time_of["minimal_step"])
+        assert figures["ratios"][(0.3, n)]["simulate / pymunk"] == pytest.approx(
+            time_of["simulate"] / time_of["pymunk_step"])
 
 
 def test_broadphase_pymunk_baseline_is_plain_pymunk(monkeypatch):

@@ -24,21 +24,26 @@ def test_rows_hold_the_ratio_and_rate_columns(short_run):
     assert row["ccd_cost"] > 0 and row["pymunk_cost"] > 0
     assert row["ccd_over_pymunk_low"] <= row["ccd_over_pymunk"] <= row["ccd_over_pymunk_high"]
     assert row["events_per_second_low"] <= row["events_per_second"] <= row["events_per_second_high"]
+    assert row["collisions_per_second_low"] <= row["collisions_per_second"] <= row["collisions_per_second_high"]
     with open(figures["csv"]) as file:
         assert [r["workload"] for r in csv.DictReader(file)] == ["dense_gas"]
     assert figures["csv"] == out / "ccd.csv"
 
 
-def test_events_per_second_is_the_counted_events_over_the_time(short_run):
+def test_collisions_per_second_leave_out_the_cell_crossings(short_run):
+    """Collisions per second are the collisions alone over the time, events per second every
+    event the loop processed (crossings included), over the same rounds' times."""
     _, figures = short_run
     (row,) = figures["rows"]
     events = row["collisions"] + row["bookkeeping"]
-    assert row["collisions"] > 0 and row["bookkeeping"] > 0 and row["events_per_second"] > 0
+    assert row["collisions"] > 0 and row["bookkeeping"] > 0
+    assert row["collisions_per_second"] / row["events_per_second"] == pytest.approx(row["collisions"] / events)
     # every round counts the same events: each rate is events / that round's seconds, so the
     # median time (ccd_cost x simulated seconds) lies between events / fastest and events / slowest
     median_seconds = row["ccd_cost"] * row["seconds"]
-    assert events / row["events_per_second_high"] <= median_seconds * (1 + 1e-9)
-    assert median_seconds <= events / row["events_per_second_low"] * (1 + 1e-9)
+    for column, count in (("events_per_second", events), ("collisions_per_second", row["collisions"])):
+        assert count / row[column + "_high"] <= median_seconds * (1 + 1e-9)
+        assert median_seconds <= count / row[column + "_low"] * (1 + 1e-9)
 
 
 def test_collisions_counted_are_those_the_trajectory_counts():
@@ -68,5 +73,5 @@ def test_cli_prints_the_table(cli, tmp_path):
     result = cli("bench", "ccd", "--workloads", "slow_gas", "--sizes", "40", "--seconds", "0.05", "--repeats", "1",
                  "--no-progress", "--out", tmp_path)
     assert result.returncode == 0, result.stderr
-    assert "ccd / pymunk" in result.stdout and "events/s" in result.stdout and "slow_gas" in result.stdout
+    assert "ccd / pymunk" in result.stdout and "collisions/s" in result.stdout and "slow_gas" in result.stdout
     assert (tmp_path / "ccd.csv").exists()

@@ -80,7 +80,7 @@ def test_render_cli_with_broadphase_substeps_restitution_and_profile(cli, tmp_pa
 
 def test_bench_broadphase_writes_csv_and_chart_with_reference_lines(cli, tmp_path):
     import csv
-    result = cli("bench", "broadphase", "--sizes", "50", "400", "--repeats", "1", "--no-progress",
+    result = cli("bench", "broadphase", "--sizes", "50", "400", "--repeats", "1", "--packing", "0.1", "--no-progress",
                  "--out", tmp_path)
     assert result.returncode == 0, result.stderr
     rows = list(csv.DictReader(open(tmp_path / "broadphase.csv")))

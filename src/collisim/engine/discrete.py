@@ -12,9 +12,11 @@ One step of dt is the pipeline below, each phase timed into the profile (engine/
                   below where a heavy body rests on light ones (response/hold.py)
     integrate     p += v·dt + ½·a·dt², v += a·dt, θ += ω·dt, plus the solver's share; then
                   contacts that pressed come to rest (response)
-    statics       segments near each body (statics/segment_index.py), the collision map
-                  (each step's move marched through its distance field), then the box walls
-                  (a body the solver held against a wall is kept on it, not bounced)
+    statics       a lone polygon faster than its size a step flown against the walls, each
+                  met at its time of impact (fast_polygons.py); segments near each body
+                  (statics/segment_index.py), the collision map (each step's move marched
+                  through its distance field), then the box walls (a body the solver held
+                  against a wall is kept on it, not bounced)
     settle        keep bodies out of the map (positions only)
     record        the frame's state into the trajectory, and how many of its pairs pass each
                   level of the bounding volumes (narrowphase/hierarchy.py; worlds with polygons)
@@ -43,6 +45,7 @@ from ..response.warmstart import no_memory, recall, remember
 from ..statics.segment_index import build_segment_index
 from .frames import constant_angles, new_frames
 from .eventlog import append, log_events, new_log, with_room
+from .fast_polygons import fast_note, fly_swept, keep_starts, mark_swept, new_fast, outpaced, segment_reach
 from .islands import new_sleep
 from .integrate import integrate
 from .profile import Profile, cycles
@@ -74,19 +77,19 @@ each block's start cost a whole broad and narrow phase: a block is one frame at 
 bodies): found and rows (response/rows.py, grown as needed), the rows' count (-1 before the
 first block: not found yet) and the candidate pairs (k, 2)."""
 Work = namedtuple("Work", ["lo", "hi", "margin", "push", "shift", "push_turn", "shift_turn", "vertices",
-                           "inverse_masses", "inverse_inertias", "moved"])
+                           "inverse_masses", "inverse_inertias", "moved", "fast"])
 Work.__doc__ = """The step's per-body arrays, made once a run (made at every block, they were a tenth of a
 gigabyte a frame at a million bodies): the bounding boxes lo, hi (n, 2) and margins (n,) of
 the contact phases; the solver's push, shift (n, 2) and their turns (n,) (response/solver.py);
 the polygons' placed vertices; 1/m and 1/I (the solver multiplies); moved (n,) bool, all False
-between steps (add_contact_motion)."""
+between steps (add_contact_motion); fast: the fast polygons' (fast_polygons.py)."""
 
 
 def new_work(bodies) -> Work:
     n = len(bodies.positions)
     return Work(np.empty((n, 2)), np.empty((n, 2)), np.empty(n), np.zeros((n, 2)), np.zeros((n, 2)), np.zeros(n),
                 np.zeros(n), np.empty_like(bodies.body_vertices), 1.0 / bodies.masses, 1.0 / bodies.inertias,
-                np.zeros(n, np.bool_))
+                np.zeros(n, np.bool_), new_fast(n))
 
 
 @njit(cache=True)
@@ -137,7 +140,7 @@ def sort_pairs(pairs, n):
 
 
 @njit(cache=True)
-def _contact_phases(bodies, statics, broad, sleep, dt, margin, lo, hi, vertices, held, found, rows, prior,
+def _contact_phases(bodies, statics, broad, sleep, dt, margin, lo, hi, vertices, held, found, rows, prior, fast,
                     phase_cycles, t):
     """broad and narrow: the step's contact rows, from the state at its start. vertices (V, 2)
     receives the polygons' world vertices; held: statics_paths.statics_scratch's (which circles
@@ -145,13 +148,15 @@ def _contact_phases(bodies, statics, broad, sleep, dt, margin, lo, hi, vertices,
     to step, grown when a step needs more. Sleepers a body comes near are woken first, and then
     have their margins and pairs found again (engine/islands.py); prior: the (pairs, touching)
     of the contact phase before, which pairs of sleepers keep (all of them when every body slept
-    already then: as in Box2D, a world asleep costs nothing). Returns (found, rows, count,
+    already then: as in Box2D, a world asleep costs nothing); fast: the fast polygons
+    (fast_polygons.py), whose swept ones have no wall rows. Returns (found, rows, count,
     candidate pairs, which of them touch, t)."""
     b = bodies
     n = b.positions.shape[0]
     # (the sleeping calls that count references are guarded here: a call hands numba every array
     # of the tuples it takes)
     if still(sleep, n) and prior[1].shape[0] == prior[0].shape[0]:
+        fast.count[0] = 0
         return found, rows, 0, prior[0], prior[1], t   # nothing moved since the phase before
     if statics.volumes is not None:   # a world with polygons
         place_polygons(b.body_vertices, b.vertex_start, b.positions, b.angles, vertices)
@@ -165,7 +170,8 @@ def _contact_phases(bodies, statics, broad, sleep, dt, margin, lo, hi, vertices,
         t = _lap(phase_cycles, BROAD, t)
     else:
         margins(b.velocities, b.angular_velocities, b.accelerations, b.radii, dt, margin)
-    near = near_segments(b, margin, statics.segments)
+    segment_margin = segment_reach(statics.volumes, b, dt, margin, statics.segments, fast.reach)
+    near = near_segments(b, segment_margin, statics.segments)
     most = pairs.shape[0] + near + 4 * n   # a manifold a pair, a polygon and segment, a body and wall
     if found.shape[0] < most:
         found = new_found(most + most // 2)
@@ -174,10 +180,12 @@ def _contact_phases(bodies, statics, broad, sleep, dt, margin, lo, hi, vertices,
                        sleep.asleep)
     if sleep.sleeping[0] > 0:
         keep_touching(sleep, b, vertices, pairs, touching, prior[0], prior[1], statics.volumes)
+    no_wall_rows = mark_swept(statics.volumes, b, dt, in_pair, statics.restitution, statics.segments, sleep.asleep,
+                              fast)
     k = wall_manifolds(b, vertices, margin, dt, statics.box, statics.rest_speed, in_pair, found, k,
-                       statics.volumes, sleep.asleep)
+                       statics.volumes, no_wall_rows)
     if near > 0:
-        k = segment_manifolds(b, vertices, margin, statics.segments, found, k, statics.volumes, sleep.asleep)
+        k = segment_manifolds(b, vertices, segment_margin, statics.segments, found, k, statics.volumes, sleep.asleep)
     found, k = circle_segment_rows(b, statics, margin, in_pair, held, found, k, sleep.asleep)
     found, k = circle_map_rows(b, statics, margin, in_pair, found, k, sleep.asleep)
     if rows.i.shape[0] < 2 * k:   # up to two points a manifold
@@ -225,7 +233,7 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
     start = cycles()
     b, s = bodies, statics
     n = b.positions.shape[0]
-    lo, hi, margin, push, shift, push_turn, shift_turn, vertices, inverse_masses, inverse_inertias, moved = work
+    lo, hi, margin, push, shift, push_turn, shift_turn, vertices, inverse_masses, inverse_inertias, moved, _ = work
     scratch = statics_scratch(n, s.segments.shape[0])
     the_map = map_number(s.segments)   # the statics a row names: walls, segments, then the map
     statics_count = the_map + 1        # (the contacts' memory numbers them all)
@@ -238,7 +246,7 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
     if count < 0:
         found, rows, count, pairs, touching, t = _contact_phases(b, s, broad, sleep, dt, margin, lo, hi, vertices,
                                                                  scratch[3], found, rows, (pairs, touching),
-                                                                 phase_cycles, t)
+                                                                 work.fast, phase_cycles, t)
     still_since_record = False   # every body asleep at the last frame recorded, none since
     for frame in range(out.positions.shape[0]):
         frame_collisions = out.collisions[frame]
@@ -246,6 +254,9 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
             step_count += 1
             now = step_count * dt
             keep_start(s.map, scratch[2], b.positions)
+            if outpaced(s.volumes, b, margin, dt, sleep.asleep):   # a pair faster than its rows can hold
+                out.approximate[frame] = True
+                _note_outpaced(work.fast.outpaced, frame)
             v, w, m, inertia = b.velocities, b.angular_velocities, inverse_masses, inverse_inertias   # 1/m, 1/I
             if count > 0:
                 collide(rows, count, v, w, b.accelerations, m, inertia, s.restitution, s.friction, s.rest_speed, dt,
@@ -257,6 +268,7 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
                                            push_turn, shift, shift_turn, s.pulled)   # > 0: held (hold.py)
                 out.approximate[frame] = out.approximate[frame] or propped > 0   # momentum is not exact
             t = _lap(phase_cycles, RESPONSE, t)
+            keep_starts(s.volumes, b, work.fast)
             integrate(b.positions, b.velocities, b.accelerations, b.angles, b.angular_velocities, dt, s.keep)
             if count > 0:
                 add_contact_motion(b, rows, count, push, push_turn, shift, shift_turn, dt, moved)
@@ -271,6 +283,7 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
                       if sleep.sleeping[0] > 0 else remembered)
             mark_held(rows, count, scratch[3], the_map)
             t = _lap(phase_cycles, RESPONSE, t)
+            log = fly_swept(s.volumes, b, s, dt, work.fast, log, now, frame_collisions)   # walls met in flight
             log = statics_phase(b, s, scratch, dt, log, now, frame_collisions)
             t = _lap(phase_cycles, STATICS, t)
             if count > 0 and settle_in_map(s.map, b.positions, b.radii):
@@ -279,7 +292,7 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
             t = _lap(phase_cycles, SLEEP, t)
             found, rows, count, pairs, touching, t = _contact_phases(b, s, broad, sleep, dt, margin, lo, hi,
                                                                      vertices, scratch[3], found, rows,
-                                                                     (pairs, touching), phase_cycles, t)
+                                                                     (pairs, touching), work.fast, phase_cycles, t)
         out.candidates[frame] = pairs.shape[0]
         if frame > 0 and still_since_record and still(sleep, n):
             copy_rows(out.hierarchy[frame - 1], out.hierarchy[frame], out.hierarchy.shape[1])   # the same state as the frame before
@@ -294,6 +307,14 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
         t = _lap(phase_cycles, RECORD, t)
     phase_cycles[TOTAL] += cycles() - start
     return log, memory, Contacts(found, rows, count, pairs)
+
+
+@njit(cache=True)
+def _note_outpaced(counts, frame):
+    """Count a step outpaced (fast_polygons.Fast.outpaced), keeping the frame of the first."""
+    if counts[0] == 0:
+        counts[1] = frame
+    counts[0] += 1
 
 
 @njit(cache=True)
@@ -370,11 +391,14 @@ class DiscreteStepper:
         turning = bool(np.any(b.angular_velocities != 0.0) or np.any(b.shapes != CIRCLE) or self.statics.friction > 0)
         out = new_frames(count, len(b.positions), turning, into)
         self.log.size[0] = 0
+        self.work.fast.outpaced[:] = 0
         self.log, self.memory, self.contacts = self.profile.timed(lambda phase_cycles: run_frames(
             b, self.statics, self.broad, self.sleep, self.dt, self.substeps, self.step_count, out, self.log,
             self.memory, self.contacts, self.work, phase_cycles))
         if out.approximate.any() and not self.warnings:
-            self.warnings.append(held_note(self.step_count // self.substeps + 1 + int(np.argmax(out.approximate))))
+            first = int(np.argmax(out.approximate))
+            fast = self.work.fast.outpaced[0] > 0 and self.work.fast.outpaced[1] == first
+            self.warnings.append((fast_note if fast else held_note)(self.step_count // self.substeps + 1 + first))
         self.step_count += count * self.substeps
         if not turning:
             out = constant_angles(out, b.angles.copy(), b.angular_velocities.copy())

@@ -31,6 +31,7 @@ from ..core.geometry.capsule import ray_capsule
 from ..core.geometry.segment import closest_on_segment
 from ..core.kinds import CAPSULE, CIRCLE
 from .polygons import box_wall_halfplane, polygon_halfplane, speculative_polygons
+from .sweep import swept_polygon_circle, swept_polygons
 
 NONE = (1.0, 0.0, 0, -np.inf, 0.0, 0.0, 0.0, 0.0, 0.0)
 TOUCH = 1e-12   # of the coordinates' size: past any rounding of a core moved to touch another
@@ -268,6 +269,22 @@ def capsule_pair_touch(shapes, positions, radii, vertices, start, i, j):
         return math.hypot(positions[j, 0] - qx, positions[j, 1] - qy) <= ra + radii[j]
     m = _with_capsule(shapes, positions, radii, vertices, start, j, i, 0.0)
     return m[2] > 0 and m[3] >= 0.0
+
+
+@njit(cache=True, error_model="numpy")
+def capsule_pair_swept_gap(shapes, positions, radii, vertices, start, i, j, dx, dy):
+    """The least gap between bodies i and j, one of them a capsule, while j moves by (dx, dy)
+    relative to i (manifold.pair_swept_gap): the cores' sweep (a core is a two-vertex polygon,
+    narrowphase/sweep.py) less the radii, a circle's with it."""
+    ra = capsule_radius(radii, vertices, start, i) if shapes[i] == CAPSULE else 0.0   # a polygon's is 0
+    rb = capsule_radius(radii, vertices, start, j) if shapes[j] == CAPSULE else 0.0
+    if shapes[j] == CIRCLE:
+        return swept_polygon_circle(vertices[start[i]:start[i + 1]], positions[j, 0], positions[j, 1], radii[j] + ra,
+                                    dx, dy)
+    if shapes[i] == CIRCLE:   # the capsule j seen from the circle i: the circle moves by -d
+        return swept_polygon_circle(vertices[start[j]:start[j + 1]], positions[i, 0], positions[i, 1], radii[i] + rb,
+                                    -dx, -dy)
+    return swept_polygons(vertices[start[i]:start[i + 1]], vertices[start[j]:start[j + 1]], dx, dy) - ra - rb
 
 
 @njit(cache=True, error_model="numpy")

@@ -25,11 +25,12 @@ from numba.extending import overload
 
 from ..core.compiling import kernel
 from ..core.kinds import CAPSULE, CIRCLE, POLYGON
-from .capsules import (capsule_pair_manifold, capsule_pair_touch, capsule_segment_manifold,
+from .capsules import (capsule_pair_manifold, capsule_pair_swept_gap, capsule_pair_touch, capsule_segment_manifold,
                        capsule_wall_manifold)
 from .circles import circle_circle, circles_touch
 from .polygons import (box_wall_halfplane, placed_polygons_touch, polygon_circle, polygon_circle_touch,
                        polygon_halfplane, polygon_segment, speculative_polygons)
+from .sweep import swept_circles, swept_polygon_circle, swept_polygons
 
 NONE = (1.0, 0.0, 0, -np.inf, 0.0, 0.0, 0.0, 0.0, 0.0)
 TOUCH = 1e-12   # of the coordinates' size: past any rounding of a shape moved to touch another
@@ -89,6 +90,30 @@ def pair_manifold(shapes, positions, radii, vertices, start, i, j, margin):
         return _flipped(_polygon_circle(vertices[start[j]:start[j + 1]], positions[i, 0], positions[i, 1], radii[i],
                                         margin))
     return _polygons(vertices[start[i]:start[i + 1]], vertices[start[j]:start[j + 1]], margin)
+
+
+@kernel
+def pair_swept_gap(shapes, positions, radii, vertices, start, i, j, dx, dy):
+    """The least distance between the shapes of bodies i and j (apart where the step starts) while
+    body j moves by (dx, dy) relative to body i, turning neither (narrowphase/sweep.py)."""
+    if shapes[i] == CIRCLE and shapes[j] == CIRCLE:
+        return _circles_swept(positions, radii, i, j, dx, dy)
+    if shapes[i] == CAPSULE or shapes[j] == CAPSULE:
+        return capsule_pair_swept_gap(shapes, positions, radii, vertices, start, i, j, dx, dy)
+    # from here on, circles and polygons only
+    if shapes[j] == CIRCLE:
+        return swept_polygon_circle(vertices[start[i]:start[i + 1]], positions[j, 0], positions[j, 1], radii[j],
+                                    dx, dy)
+    if shapes[i] == CIRCLE:   # the polygon j seen from the circle i: the circle moves by -d
+        return swept_polygon_circle(vertices[start[j]:start[j + 1]], positions[i, 0], positions[i, 1], radii[i],
+                                    -dx, -dy)
+    return swept_polygons(vertices[start[i]:start[i + 1]], vertices[start[j]:start[j + 1]], dx, dy)
+
+
+@kernel
+def _circles_swept(positions, radii, i, j, dx, dy):
+    return swept_circles(positions[j, 0] - positions[i, 0], positions[j, 1] - positions[i, 1], dx, dy,
+                         radii[i] + radii[j])
 
 
 @kernel
@@ -180,6 +205,11 @@ def body_pair_touch(polygons, shapes, positions, radii, vertices, start, i, j):
     raise NotImplementedError("body_pair_touch is called from compiled code")
 
 
+def body_pair_swept_gap(polygons, shapes, positions, radii, vertices, start, i, j, dx, dy):
+    """pair_swept_gap; for a world of circles (polygons None), the circles' alone."""
+    raise NotImplementedError("body_pair_swept_gap is called from compiled code")
+
+
 def body_wall_manifold(polygons, shapes, radii, vertices, start, i, box, wall, margin):
     """shape_wall_manifold; no contact for a world of circles (it has no polygon nor capsule)."""
     raise NotImplementedError("body_wall_manifold is called from compiled code")
@@ -205,6 +235,15 @@ def _body_pair_touch(polygons, shapes, positions, radii, vertices, start, i, j):
         return lambda polygons, shapes, positions, radii, vertices, start, i, j: circles_touch(positions, radii, i, j)
     return lambda polygons, shapes, positions, radii, vertices, start, i, j: shapes_touch(
         shapes, positions, radii, vertices, start, i, j)
+
+
+@overload(body_pair_swept_gap)
+def _body_pair_swept_gap(polygons, shapes, positions, radii, vertices, start, i, j, dx, dy):
+    if isinstance(polygons, types.NoneType):
+        return lambda polygons, shapes, positions, radii, vertices, start, i, j, dx, dy: _circles_swept(
+            positions, radii, i, j, dx, dy)
+    return lambda polygons, shapes, positions, radii, vertices, start, i, j, dx, dy: pair_swept_gap(
+        shapes, positions, radii, vertices, start, i, j, dx, dy)
 
 
 @overload(body_wall_manifold)

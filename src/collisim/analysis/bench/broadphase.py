@@ -8,28 +8,36 @@ frame's order. A dashed reference line puts the numbers in context: scipy's
 ``cKDTree`` build + ``query_pairs(r=2 * max radius)``, a tuned C++ spatial index answering
 a similar question (all centres closer than the largest possible contact distance).
 
-The whole discrete step (collisim's engine with the grid, integrate to walls) is timed
-over many steps of a moving gas, started without overlaps (a jittered lattice at the
-same packing), against two references in the same run, each timed in its steady state: every
-engine first runs WARM_STEPS steps (5 simulated seconds), then runs of at least MIN_TIMED_STEPS
-steps are timed. The warm-up matters for pymunk at large n: its bounding-box tree gives each
-shape a box fattened by its velocity over 0.1 s (Chipmunk's cpBBTree), and with every shape
-inserted at the same step they outgrow their boxes together, so for the first few hundred steps
-every sixth or seventh step re-indexes most of the gas (at n = 100 000: steps of ~20 ms with
-spikes of ~400 ms, settling to 55–90 ms a step on this project's machine); timing 5 steps from
-the start measured anything from 20 to 160 ms.
+The whole step is timed over many steps of a moving gas (workloads.shuffled_gas: the size mix,
+no overlaps, in a seeded random index order, as a gas is once it has mixed; a lattice's index
+order is its cell order and flatters every step that walks cells), at each packing, in the same
+run as the references, each in its steady state: every engine first runs WARM_STEPS steps (5
+simulated seconds), then runs of at least MIN_TIMED_STEPS steps are timed. The warm-up matters
+for pymunk at large n: its bounding-box tree gives each shape a box fattened by its velocity over
+0.1 s (Chipmunk's cpBBTree), and with every shape inserted at the same step they outgrow their
+boxes together, so for the first few hundred steps every sixth or seventh step re-indexes most of
+the gas. Two collisim lines:
+
+* discrete_step: the engine alone (DiscreteStepper.run, grid), recording each frame into new
+  arrays, as `simulate` has it do;
+* simulate: `collisim.simulate(scene)` per frame, what a user calls (the world copied, the
+  engine, the trajectory assembled), timed from the scene's start (no warm-up but compiling: it
+  cannot carry on a state; the gas is mixed from its start).
+
+The references:
 
 * plain pymunk (collisim.analysis.reference.plain_pymunk): the Space a user would build, with
   Chipmunk's defaults and no collision callbacks, timing ``space.step(1/60)`` alone. (The
   comparison mirror, pymunk_mirror, with a Python callback on every contact and its own
   settings, is never used for speed.)
-* the minimal compiled step of reference_step.py: a counting-sort grid with the data gathered
-  into cell order, the half 3×3 neighbourhood, elastic impulse and push-apart, reflecting
-  walls — a yardstick for what a compiled discrete step of this gas costs.
+* the minimal compiled step (reference_step.py): one loop that moves and reflects at the walls,
+  counting-sorts the rows into cell order, and applies elastic impulses to touching approaching
+  pairs over the half 3×3 stencil — a yardstick for what a compiled step of this gas costs.
 
-The CSV has a row per (method, n); ``ns_per_particle`` is seconds_per_frame / n, and the
-discrete step's rows carry ``step_over_pymunk`` and ``step_over_reference``, its time divided
-by the two references' at the same n.
+The CSV has a row per (packing, method, n); ``ns_per_particle`` is seconds_per_frame / n, and
+collisim's rows carry ``step_over_pymunk`` and ``step_over_minimal``, its time divided by the
+two references' at the same packing and n (the medians' ratio), and ``over_pymunk_range`` and
+``over_minimal_range``, the lowest and highest ratio of one round's times.
 
 Writes ``broadphase.csv`` and ``broadphase.png`` to the output folder.
 """
@@ -47,9 +55,11 @@ BRUTE_MAX_N = 3000  # brute force above this would take minutes
 RADII = (1.0, 1.5, 2.0)
 RADIUS_SHARES = (0.5, 0.3, 0.2)  # 5 : 3 : 2
 NUDGE = 0.05  # how far (in radii) particles move between the two frames
-REFERENCES = ("scipy_ckdtree", "pymunk_step", "reference_step", "discrete_step")
-COLUMNS = ("method", "n", "seconds_per_frame", "ns_per_particle", "candidates", "true_pairs", "step_over_pymunk",
-           "step_over_reference")
+REFERENCES = ("scipy_ckdtree", "pymunk_step", "minimal_step", "discrete_step", "simulate")
+COLLISIM = ("discrete_step", "simulate")     # the rows with ratios to the two step references
+PACKINGS = (0.1, 0.3, 0.5)
+COLUMNS = ("packing", "method", "n", "seconds_per_frame", "ns_per_particle", "candidates", "true_pairs",
+           "step_over_pymunk", "step_over_minimal", "over_pymunk_range", "over_minimal_range")
 STEP_WORK = 200_000   # particle-steps per timing of a whole step: 200 steps at n = 1000...
 MIN_TIMED_STEPS = 21  # ...and at least this many (three of pymunk's re-indexing periods, see below)
 WARM_STEPS = 300      # steps of every whole-step engine before it is timed: 5 simulated seconds
@@ -105,16 +115,12 @@ def time_ckdtree(positions: np.ndarray, radii: np.ndarray, repeats: int) -> tupl
 
 
 def moving_gas(n: int, packing: float, seed: int):
-    """A Scene: n circles on a jittered lattice (no overlaps) in a box at `packing`, moving about a
-    tenth of a radius per step: the steady state of a gas."""
+    """A Scene of workloads.shuffled_gas: n circles of the size mix at `packing`, no overlaps, in a
+    random index order, moving about a tenth of a radius a frame at 60 fps."""
     import collisim
-    from collisim.gas import lattice_gas
 
-    mean_area = np.pi * np.dot(np.square((0.22, 0.32, 0.45)), (0.5, 0.3, 0.2))
-    side = np.sqrt(n * mean_area / packing)
-    positions, velocities, radii = lattice_gas(n, box=(0.0, 0.0, side, side), speed=0.1 * 0.3 * 60, seed=seed)
-    world = collisim.World(positions=positions, velocities=velocities, radii=radii, box=(0.0, 0.0, side, side))
-    return collisim.Scene(world=world, fps=60, seconds=1.0, broadphase="grid")
+    from .workloads import shuffled_gas
+    return collisim.Scene(world=shuffled_gas(n, packing, seed), fps=60, seconds=1.0, broadphase="grid")
 
 
 def discrete_stepper(scene):
@@ -136,24 +142,42 @@ def pymunk_stepper(scene):
     return lambda steps: plain.time_steps(scene.fps, steps)
 
 
-def reference_stepper(scene):
+def minimal_stepper(scene):
     """advance(steps) of the minimal compiled step (reference_step.py) on the same gas."""
-    from .reference_step import ReferenceStep
+    from .reference_step import MinimalStep
 
-    return ReferenceStep.from_world(scene.world, scene.fps).run
+    return MinimalStep.from_world(scene.world, scene.fps).run
 
 
-STEPPERS = {"pymunk_step": pymunk_stepper, "reference_step": reference_stepper, "discrete_step": discrete_stepper}
+def simulate_stepper(scene):
+    """advance(steps): collisim.simulate of the scene cut to `steps` frames (from its start)."""
+    import collisim
+
+    return lambda steps: collisim.simulate(scene.replace(seconds=steps / scene.fps))
+
+
+STEPPERS = {"pymunk_step": pymunk_stepper, "minimal_step": minimal_stepper, "discrete_step": discrete_stepper,
+            "simulate": simulate_stepper}
+RESTARTING = ("simulate",)     # starts from the scene's start every call: warmed up (compiled) only
 
 
 def time_whole_steps(scene, repeats: int, names=tuple(STEPPERS), warm_steps: int = WARM_STEPS) -> dict:
-    """{name: median seconds per step} of each whole step on its own copy of the same gas, after
+    """{name: median seconds per step} of each whole step (see whole_step_rounds)."""
+    return {name: float(np.median(values)) for name, values in whole_step_rounds(scene, repeats, names,
+                                                                                   warm_steps).items()}
+
+
+def whole_step_rounds(scene, repeats: int, names=tuple(STEPPERS), warm_steps: int = WARM_STEPS) -> dict:
+    """{name: seconds per step in each round} of each whole step on its own copy of the same gas, after
     `warm_steps` steps (compilation, and the steady state: see the module docstring), over runs of
     STEP_WORK / n steps (at least MIN_TIMED_STEPS). The repeats are rounds over the steppers, so
     a burst of load from elsewhere lands on one run of each rather than on every run of one."""
     advances = {name: STEPPERS[name](scene) for name in names}
     chunk = max(1, STEP_WORK // scene.world.n)   # collisim records each frame: warm up in runs this long
-    for advance in advances.values():
+    for name, advance in advances.items():
+        if name in RESTARTING:
+            advance(2)
+            continue
         for done in range(0, warm_steps, chunk):
             advance(min(chunk, warm_steps - done))
     steps = max(MIN_TIMED_STEPS, STEP_WORK // scene.world.n)
@@ -163,7 +187,7 @@ def time_whole_steps(scene, repeats: int, names=tuple(STEPPERS), warm_steps: int
             start = time.perf_counter()
             advance(steps)
             seconds[name].append((time.perf_counter() - start) / steps)
-    return {name: float(np.median(values)) for name, values in seconds.items()}
+    return {name: np.array(values) for name, values in seconds.items()}
 
 
 def time_discrete_step(scene, repeats: int) -> float:
@@ -176,9 +200,9 @@ def time_pymunk(scene, repeats: int) -> float:
     return time_whole_steps(scene, repeats, ("pymunk_step",))["pymunk_step"]
 
 
-def time_reference_step(scene, repeats: int) -> float:
+def time_minimal_step(scene, repeats: int) -> float:
     """Median seconds per step of the minimal compiled step on the same gas."""
-    return time_whole_steps(scene, repeats, ("reference_step",))["reference_step"]
+    return time_whole_steps(scene, repeats, ("minimal_step",))["minimal_step"]
 
 
 def warm_up() -> None:
@@ -197,7 +221,7 @@ def measure(sizes, packing: float, repeats: int, seed: int, progress: bool) -> l
 
     rows = []
     tasks = sum(len(NAMES) - (n > BRUTE_MAX_N) + len(REFERENCES) for n in sizes)
-    with tqdm(total=tasks, file=sys.stderr, disable=not progress, desc="broad phase") as bar:
+    with tqdm(total=tasks, file=sys.stderr, disable=not progress, desc=f"packing {packing:g}") as bar:
         for n in sizes:
             positions, radii = random_gas(n, packing, seed)
             moved = positions + np.random.default_rng(seed + 1).normal(0, NUDGE, positions.shape) * radii[:, None]
@@ -208,103 +232,120 @@ def measure(sizes, packing: float, repeats: int, seed: int, progress: bool) -> l
                     continue
                 bar.set_postfix_str(f"n={n} {method}")
                 seconds, pairs = time_method(method, frame_a, frame_b, repeats)
-                rows.append(dict(method=method, n=n, seconds_per_frame=seconds,
+                rows.append(dict(packing=packing, method=method, n=n, seconds_per_frame=seconds,
                                  candidates=len(pairs), true_pairs=true_pairs))
                 bar.update()
             bar.set_postfix_str(f"n={n} cKDTree")
             seconds, found = time_ckdtree(moved, radii, repeats)
-            rows.append(dict(method="scipy_ckdtree", n=n, seconds_per_frame=seconds,
+            rows.append(dict(packing=packing, method="scipy_ckdtree", n=n, seconds_per_frame=seconds,
                              candidates=found, true_pairs=true_pairs))
             bar.update()
             bar.set_postfix_str(f"n={n} whole steps")
-            for name, seconds in time_whole_steps(moving_gas(n, packing, seed), repeats).items():
-                rows.append(dict(method=name, n=n, seconds_per_frame=seconds, candidates="", true_pairs=""))
+            rounds = whole_step_rounds(moving_gas(n, packing, seed), repeats)
+            for name, seconds in rounds.items():
+                row = dict(packing=packing, method=name, n=n, seconds_per_frame=float(np.median(seconds)),
+                           candidates="", true_pairs="")
+                if name in COLLISIM:     # collisim / a reference in the same round: the range over rounds
+                    for reference, column in (("pymunk_step", "over_pymunk_range"),
+                                              ("minimal_step", "over_minimal_range")):
+                        ratio = seconds / rounds[reference]
+                        row[column] = f"{ratio.min():.2f}-{ratio.max():.2f}"
+                rows.append(row)
                 bar.update()
-    return add_ratios(rows)
+    return rows
 
 
 def add_ratios(rows: list[dict]) -> list[dict]:
-    """Fill ns_per_particle on every row, and the discrete step's ratios to the two step
-    references (blank on the other rows)."""
-    time_of = {(row["method"], row["n"]): row["seconds_per_frame"] for row in rows}
+    """Fill ns_per_particle on every row, and collisim's ratios to the two step references
+    (blank on the other rows)."""
+    time_of = {(row["packing"], row["method"], row["n"]): row["seconds_per_frame"] for row in rows}
     for row in rows:
         row["ns_per_particle"] = 1e9 * row["seconds_per_frame"] / row["n"]
-        row["step_over_pymunk"] = row["step_over_reference"] = ""
-        if row["method"] == "discrete_step":
-            row["step_over_pymunk"] = row["seconds_per_frame"] / time_of[("pymunk_step", row["n"])]
-            row["step_over_reference"] = row["seconds_per_frame"] / time_of[("reference_step", row["n"])]
+        row["step_over_pymunk"] = row["step_over_minimal"] = ""
+        if row["method"] in COLLISIM:
+            at = (row["packing"], row["n"])
+            row["step_over_pymunk"] = row["seconds_per_frame"] / time_of[(at[0], "pymunk_step", at[1])]
+            row["step_over_minimal"] = row["seconds_per_frame"] / time_of[(at[0], "minimal_step", at[1])]
     return rows
 
 
 def write_csv(rows: list[dict], path: pathlib.Path) -> None:
-    write_table(path, rows, COLUMNS)
+    write_table(path, [{column: row.get(column, "") for column in COLUMNS} for row in rows], COLUMNS)
 
 
-def plot(rows: list[dict], path: pathlib.Path, packing: float) -> None:
-    """Log-log time per frame vs n: solid lines for the methods, dashed for the references."""
+def plot(rows: list[dict], path: pathlib.Path) -> None:
+    """Log-log time per frame vs n, a panel per packing: solid lines for the broad phases,
+    dashed for the references and the whole steps."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
-    figure = Figure(figsize=(8, 5.5), dpi=120)
+    packings = sorted({row["packing"] for row in rows})
+    figure = Figure(figsize=(6 * len(packings), 6), dpi=110)
     FigureCanvasAgg(figure)
-    axes = figure.add_subplot()
     labels = {"scipy_ckdtree": "scipy cKDTree build + query_pairs",
-              "pymunk_step": "plain pymunk Space.step (defaults, no callbacks): a whole step of a moving gas",
-              "reference_step": "minimal compiled step (reference_step.py): the same gas",
-              "discrete_step": "collisim discrete step (grid): a whole step of the same gas"}
-    for method in (*NAMES, *REFERENCES):
-        mine = [row for row in rows if row["method"] == method]
-        axes.plot([row["n"] for row in mine], [row["seconds_per_frame"] for row in mine],
-                  linestyle="--" if method in REFERENCES else "-", marker="o", markersize=3,
-                  label=labels.get(method, method))
-    axes.set_xscale("log")
-    axes.set_yscale("log")
-    axes.set_xlabel("particles n")
-    axes.set_ylabel("seconds per frame")
-    axes.set_title(f"Broad phases on a random gas, whole steps on a moving gas (packing {packing:g})")
-    axes.grid(True, which="both", alpha=0.3)
-    axes.legend(fontsize=8)
+              "pymunk_step": "plain pymunk Space.step (defaults, no callbacks)",
+              "minimal_step": "minimal compiled step (reference_step.py)",
+              "discrete_step": "collisim discrete step (engine alone, grid)",
+              "simulate": "collisim.simulate() per frame"}
+    for k, packing in enumerate(packings):
+        axes = figure.add_subplot(1, len(packings), k + 1)
+        for method in (*NAMES, *REFERENCES):
+            mine = [row for row in rows if row["method"] == method and row["packing"] == packing]
+            axes.plot([row["n"] for row in mine], [row["seconds_per_frame"] for row in mine],
+                      linestyle="--" if method in REFERENCES else "-", marker="o", markersize=3,
+                      label=labels.get(method, method))
+        axes.set_xscale("log")
+        axes.set_yscale("log")
+        axes.set_xlabel("particles n")
+        axes.set_ylabel("seconds per frame")
+        axes.set_title(f"packing {packing:g}: broad phases on a random gas, whole steps on a shuffled gas",
+                       fontsize=9)
+        axes.grid(True, which="both", alpha=0.3)
+        if k == 0:
+            axes.legend(fontsize=7)
     figure.tight_layout()
     save_figure(figure, path)
 
 
 def fastest_vs_ckdtree(rows: list[dict]) -> dict:
-    """For each n: the fastest method and its time divided by cKDTree's."""
+    """For each (packing, n): the fastest broad phase and its time divided by cKDTree's."""
     result = {}
-    for n in sorted({row["n"] for row in rows}):
-        at_n = [row for row in rows if row["n"] == n]
-        reference = next(row["seconds_per_frame"] for row in at_n if row["method"] == "scipy_ckdtree")
-        best = min((row for row in at_n if row["method"] in NAMES), key=lambda row: row["seconds_per_frame"])
-        result[n] = {"method": best["method"], "ratio": best["seconds_per_frame"] / reference}
+    for at in sorted({(row["packing"], row["n"]) for row in rows}):
+        here = [row for row in rows if (row["packing"], row["n"]) == at]
+        reference = next(row["seconds_per_frame"] for row in here if row["method"] == "scipy_ckdtree")
+        best = min((row for row in here if row["method"] in NAMES), key=lambda row: row["seconds_per_frame"])
+        result[at] = {"method": best["method"], "ratio": best["seconds_per_frame"] / reference}
     return result
 
 
-def discrete_vs_pymunk(rows: list[dict]) -> dict:
-    """For each n: collisim's whole discrete step divided by plain pymunk's."""
-    return {row["n"]: row["step_over_pymunk"] for row in rows if row["method"] == "discrete_step"}
+def ratios(rows: list[dict], method: str, column: str) -> dict:
+    """{(packing, n): the column} of collisim's `method` rows (discrete_step or simulate)."""
+    return {(row["packing"], row["n"]): row[column] for row in rows if row["method"] == method}
 
 
-def discrete_vs_reference(rows: list[dict]) -> dict:
-    """For each n: collisim's whole discrete step divided by the minimal compiled step's."""
-    return {row["n"]: row["step_over_reference"] for row in rows if row["method"] == "discrete_step"}
-
-
-def run(out_dir: pathlib.Path, sizes=(100, 300, 1000, 3000, 10000, 30000, 100000), packing=0.1,
+def run(out_dir: pathlib.Path, sizes=(100, 300, 1000, 3000, 10000, 30000, 100000), packings=PACKINGS,
         repeats=3, seed=0, progress=True) -> dict:
-    """Time every method at every size; write broadphase.csv and broadphase.png.
+    """Time every method at every packing and size; write broadphase.csv and broadphase.png.
 
     Returns {"csv": path, "png": path, "rows": [CSV rows as dicts],
-    "fastest_vs_ckdtree": {n: {"method": name, "ratio": fastest / cKDTree time}},
-    "discrete_vs_pymunk": {n: collisim step / plain pymunk step},
-    "discrete_vs_reference": {n: collisim step / minimal compiled step}}.
+    "fastest_vs_ckdtree": {(packing, n): {"method": name, "ratio": fastest / cKDTree time}},
+    "ratios": {(packing, n): {"engine / pymunk", "engine / minimal", "simulate / pymunk",
+    "simulate / minimal"}}}.
     """
     out_dir = pathlib.Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     warm_up()
-    rows = measure(sizes, packing, repeats, seed, progress)
+    rows = []
+    for packing in packings:
+        rows += measure(sizes, packing, repeats, seed, progress)
+    rows = add_ratios(rows)
     csv_path, png_path = out_dir / "broadphase.csv", out_dir / "broadphase.png"
     write_csv(rows, csv_path)
-    plot(rows, png_path, packing)
+    plot(rows, png_path)
+    found = {}
+    for method, label in (("discrete_step", "engine"), ("simulate", "simulate")):
+        for reference, column in (("pymunk", "step_over_pymunk"), ("minimal", "step_over_minimal")):
+            for at, ratio in ratios(rows, method, column).items():
+                found.setdefault(at, {})[f"{label} / {reference}"] = ratio
     return {"csv": csv_path, "png": png_path, "rows": rows, "fastest_vs_ckdtree": fastest_vs_ckdtree(rows),
-            "discrete_vs_pymunk": discrete_vs_pymunk(rows), "discrete_vs_reference": discrete_vs_reference(rows)}
-
+            "ratios": found}

@@ -15,7 +15,8 @@ def add_bench_parser(commands) -> None:
                                                 "cKDTree, plain pymunk and a minimal compiled step as references")
     broad.add_argument("--sizes", type=int, nargs="+", default=[100, 300, 1000, 3000, 10000, 30000, 100000])
     broad.add_argument("--repeats", type=int, default=3)
-    broad.add_argument("--packing", type=float, default=0.1)
+    broad.add_argument("--packing", type=float, nargs="+", default=[0.1, 0.3, 0.5],
+                       help="shares of the box the circles cover, one panel each")
     render = kinds.add_parser("render", help="the video's job (100 particles, 60 fps, 1 min, 720p): "
                                               "simulate, draw and encode against encoding alone; peak memory")
     render.add_argument("--seconds", type=float, default=60.0, help="length of the job")
@@ -39,13 +40,16 @@ def add_bench_parser(commands) -> None:
                                          "against pymunk's segment_query_first, in the same run")
     rays.add_argument("--rays", type=int, default=100_000, help="rays cast per measurement")
     rays.add_argument("--repeats", type=int, default=3)
-    polygons = kinds.add_parser("polygons", help="the polygons scene: collisim's discrete step against plain "
-                                                 "pymunk's on the same world, per phase, as ratios")
+    polygons = kinds.add_parser("polygons", help="the polygons scene or a pyramid of boxes: collisim's discrete "
+                                                 "step against plain pymunk's (without and with sleeping) and "
+                                                 "Box2D 2.3's on the same world, per phase, as ratios")
     polygons.add_argument("--seconds", type=float, default=8.0, help="simulated seconds per repeat")
     polygons.add_argument("--repeats", type=int, default=3)
-    polygons.add_argument("--scene", default="polygons", help="another scene of one world (bounding_volumes): "
-                                                              "timed whole, not split into falling and pile")
-    ccd = kinds.add_parser("ccd", help="the event-driven ccd method's events per second, and its cost against "
+    polygons.add_argument("--scene", default="polygons", help="pyramid40 (820 boxes), pyramids10 (ten of 55) or "
+                                                              "another scene of one world (bounding_volumes): "
+                                                              "timed in its first second and whole")
+    ccd = kinds.add_parser("ccd", help="the event-driven ccd method's collisions per second (cell crossings "
+                                       "apart), and its cost against "
                                        "plain pymunk at its first loss-free substep count, on the three gases")
     ccd.add_argument("--workloads", nargs="+", default=["slow_gas", "dense_gas", "fast_gas"],
                      help="slow_gas dense_gas fast_gas")
@@ -63,14 +67,20 @@ def cmd_bench(args) -> int:
     check_writable(args.out)
     if args.kind == "broadphase":
         from .broadphase import run
-        if min(args.sizes) < 2 or args.repeats < 1 or not 0 < args.packing < 0.9:
-            raise ValueError("sizes must be >= 2, repeats >= 1 and packing in (0, 0.9)")
-        figures = run(args.out, sizes=args.sizes, packing=args.packing, repeats=args.repeats,
+        if min(args.sizes) < 2 or args.repeats < 1 or not all(0 < p <= 0.5 for p in args.packing):
+            raise ValueError("sizes must be >= 2, repeats >= 1 and packings in (0, 0.5]")
+        figures = run(args.out, sizes=args.sizes, packings=args.packing, repeats=args.repeats,
                       progress=not args.no_progress)
-        for n, best in figures["fastest_vs_ckdtree"].items():
-            print(f"n={n}: fastest {best['method']}, {best['ratio']:.2f} x cKDTree build + query_pairs; "
-                  f"collisim discrete step / pymunk step {figures['discrete_vs_pymunk'][n]:.2f}, "
-                  f"/ reference step {figures['discrete_vs_reference'][n]:.2f}")
+        ranges = {(row["packing"], row["n"], row["method"]):
+                  (f"{row['step_over_pymunk']:.2f} ({row['over_pymunk_range']})",
+                   f"{row['step_over_minimal']:.2f} ({row['over_minimal_range']})")
+                  for row in figures["rows"] if row["method"] in ("discrete_step", "simulate")}
+        print(f"collisim / a reference: the medians' ratio (the range of one round's ratio over {args.repeats} rounds)")
+        for (packing, n), best in figures["fastest_vs_ckdtree"].items():
+            engine, simulate = ranges[(packing, n, "discrete_step")], ranges[(packing, n, "simulate")]
+            print(f"packing {packing:g} n={n}: fastest broad phase {best['method']}, {best['ratio']:.2f} x cKDTree; "
+                  f"engine / pymunk {engine[0]}, / minimal step {engine[1]}; "
+                  f"simulate() / pymunk {simulate[0]}, / minimal step {simulate[1]}")
         print(f"wrote {figures['csv']} and {figures['png']}")
     elif args.kind == "accuracy":
         from .accuracy import run
@@ -108,8 +118,8 @@ def cmd_bench(args) -> int:
     elif args.kind == "polygons":
         from .polygons import format_rows, load_world, run
         world, fps = load_world(args.scene)
-        rows, profile = run(args.seconds, args.repeats, world, fps, falling=args.scene == "polygons")
-        print(format_rows(rows, world.n, profile, args.scene))
+        rows, extra = run(args.seconds, args.repeats, world, fps, falling=args.scene == "polygons")
+        print(format_rows(rows, extra, args.scene))
     elif args.kind == "ccd":
         from .ccd import format_table, run
         _check_positive_seconds(args.seconds)

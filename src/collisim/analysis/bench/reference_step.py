@@ -1,195 +1,165 @@
-"""A minimal compiled discrete step: the yardstick of `collisim bench broadphase`.
+"""The minimal compiled step: the yardstick of `collisim bench broadphase`.
 
 Not part of the engine. It answers "how fast can a plain compiled step of this gas be?", so that
-collisim's whole discrete step is judged against a yardstick and not only against pymunk. It does
-the least a correct discrete step of a gas of circles in a box must do, in one compiled loop:
+collisim's step is judged against a yardstick and not only against pymunk. It is one compiled
+function, written as the loop anyone would write first, doing the least a discrete step of an
+elastic gas of circles in a box must do:
 
-1. move: x += v·dt for every particle;
-2. bin: a counting sort into a uniform grid of cells at least a diameter of the largest circle
-   wide, and every particle's data (x, y, vx, vy, r, 1/m, id) *gathered* into cell order, so
-   the pair loop reads neighbours from contiguous memory;
-3. pairs: for each cell, the pairs inside it and with the half 3×3 neighbourhood (east,
-   north-west, north, north-east: each pair of neighbouring cells once); a pair that touches
-   and approaches gets the elastic impulse along the line of centres, and any touching pair is
-   pushed apart along it, split by inverse mass (positions only);
-4. walls: a particle past a wall is reflected back inside (its position mirrored, its normal
-   velocity turned inward), so every particle ends the step in the box.
+1. move every body by v·dt and reflect it at the walls it passed (position mirrored, normal
+   velocity turned inward);
+2. a counting sort of the bodies into a grid of cells at least the largest diameter wide, each
+   body's row (x, y, vx, vy, r, 1/m, id) copied into cell order: the pair loop then reads
+   neighbours from contiguous memory, and the data stays in cell order between steps;
+3. for each cell, its bodies against the rest of the cell and its half 3×3 stencil (east, and
+   north-west, north, north-east: each pair of neighbouring cells once). In cell order the cell
+   and its east neighbour are one run of rows, and the three northern cells another;
+4. a pair that touches and approaches gets the elastic impulse along its line of centres.
 
-Not done, unlike collisim's step: constant accelerations, restitution other than 1, segments,
-maps, shapes other than circles, event logs, per-frame recording, statistics, profiling.
-The data stays in cell order between steps (`ids` says which particle is where); `positions`
-and `velocities` put it back in the World's order.
+Nothing else: no push-apart of overlaps, no accelerations, restitution 1 only, no segments,
+maps, polygons, event logs or recording. Positions change only in 1, so the touching pairs a
+step finds are the touching pairs of its final positions (what the tests check by brute force).
 """
 from __future__ import annotations
 
 import numpy as np
 from numba import njit
 
+X, Y, VX, VY, R, INV_M, ID = range(7)     # the columns of a body's row
 
-class ReferenceStep:
+
+class MinimalStep:
     """A gas of circles in a box advanced by the minimal step (see the module docstring)."""
 
     def __init__(self, positions, velocities, radii, masses, box, dt: float):
-        positions, velocities = np.asarray(positions, np.float64), np.asarray(velocities, np.float64)
+        positions = np.asarray(positions, np.float64).reshape(-1, 2)
         n = len(positions)
+        self.bodies = np.empty((n, 7))
+        self.bodies[:, [X, Y]] = positions
+        self.bodies[:, [VX, VY]] = velocities
+        self.bodies[:, R] = radii
+        self.bodies[:, INV_M] = 1.0 / np.broadcast_to(np.asarray(masses, np.float64), (n,))
+        self.bodies[:, ID] = np.arange(n)
+        self.spare = np.empty_like(self.bodies)
         self.box = np.asarray(box, np.float64)
         self.dt = float(dt)
-        xmin, ymin, xmax, ymax = self.box
-        reach = 2.0 * float(np.max(radii)) if n else 1.0      # cells at least a diameter wide
-        self.nx = max(1, int((xmax - xmin) // reach))
-        self.ny = max(1, int((ymax - ymin) // reach))
-        self.cell_w, self.cell_h = (xmax - xmin) / self.nx, (ymax - ymin) / self.ny
-        self.data = _columns(positions, velocities, radii, masses)   # x, y, vx, vy, r, 1/m, id
-        self.spare = tuple(np.empty_like(column) for column in self.data)
+        width, height = self.box[2] - self.box[0], self.box[3] - self.box[1]
+        diameter = 2.0 * float(self.bodies[:, R].max()) if n else 1.0
+        self.nx, self.ny = max(1, int(width // diameter)), max(1, int(height // diameter))
+        self.cell_w, self.cell_h = width / self.nx, height / self.ny
         self.cell_of = np.empty(n, np.int64)
         self.start = np.empty(self.nx * self.ny + 1, np.int64)
+        self.touching = 0        # touching pairs the last step found
 
     @classmethod
-    def from_world(cls, world, fps: float) -> "ReferenceStep":
+    def from_world(cls, world, fps: float) -> "MinimalStep":
         return cls(world.positions, world.velocities, world.radii, world.masses, world.box, 1.0 / fps)
 
     def run(self, steps: int) -> None:
         """Advance `steps` steps of dt."""
-        swapped = reference_steps(*self.data, *self.spare, self.cell_of, self.start, self.box,
-                                  self.cell_w, self.cell_h, self.nx, self.ny, self.dt, int(steps))
-        if swapped:
-            self.data, self.spare = self.spare, self.data
+        self.bodies, self.spare, self.touching = minimal_steps(
+            self.bodies, self.spare, self.cell_of, self.start, self.box, self.cell_w, self.cell_h,
+            self.nx, self.ny, self.dt, int(steps))
+
+    def _in_world_order(self, columns) -> np.ndarray:
+        out = np.empty((len(self.bodies), 2))
+        out[self.bodies[:, ID].astype(np.intp)] = self.bodies[:, columns]
+        return out
 
     @property
     def positions(self) -> np.ndarray:
         """(n, 2) in the World's order."""
-        x, y, _, _, _, _, ids = self.data
-        return _in_world_order(x, y, ids)
+        return self._in_world_order([X, Y])
 
     @property
     def velocities(self) -> np.ndarray:
         """(n, 2) in the World's order."""
-        _, _, vx, vy, _, _, ids = self.data
-        return _in_world_order(vx, vy, ids)
+        return self._in_world_order([VX, VY])
+
+    @property
+    def ids(self) -> np.ndarray:
+        """Each row's body, in cell order."""
+        return self.bodies[:, ID].astype(np.int64)
 
     def kinetic_energy(self) -> float:
-        _, _, vx, vy, _, inverse_mass, _ = self.data
-        return float(np.sum(0.5 * (vx ** 2 + vy ** 2) / inverse_mass))
+        b = self.bodies
+        return float(np.sum(0.5 * (b[:, VX] ** 2 + b[:, VY] ** 2) / b[:, INV_M]))
 
-
-def _columns(positions, velocities, radii, masses) -> tuple:
-    n = len(positions)
-    radii = np.broadcast_to(np.asarray(radii, np.float64), (n,))
-    masses = np.broadcast_to(np.asarray(masses, np.float64), (n,))
-    return (positions[:, 0].copy(), positions[:, 1].copy(), velocities[:, 0].copy(), velocities[:, 1].copy(),
-            radii.copy(), 1.0 / masses, np.arange(n, dtype=np.float64))
+    def momentum(self) -> np.ndarray:
+        b = self.bodies
+        return np.array([np.sum(b[:, VX] / b[:, INV_M]), np.sum(b[:, VY] / b[:, INV_M])])
 
 
 @njit(cache=True)
-def reference_steps(x, y, vx, vy, r, im, ids, x2, y2, vx2, vy2, r2, im2, ids2,
-                    cell_of, start, box, cell_w, cell_h, nx, ny, dt, steps):
-    """Advance `steps` steps. Each step gathers the data from the first set of columns into
-    the second in cell order and works there; the sets then trade places. Returns True when
-    the data ends in the second set (an odd number of steps)."""
+def minimal_steps(bodies, spare, cell_of, start, box, cell_w, cell_h, nx, ny, dt, steps):
+    """Advance `steps` steps: (bodies, spare, touching pairs found in the last step). Each step
+    copies the rows from `bodies` into `spare` in cell order, and the two trade places."""
+    n = len(bodies)
+    touching = 0
     for _ in range(steps):
-        move(x, y, vx, vy, dt)
-        gather(x, y, vx, vy, r, im, ids, x2, y2, vx2, vy2, r2, im2, ids2,
-               cell_of, start, box, cell_w, cell_h, nx, ny)
-        collide_pairs(x2, y2, vx2, vy2, r2, im2, start, nx, ny)
-        reflect_walls(x2, y2, vx2, vy2, r2, box)
-        x, y, vx, vy, r, im, ids, x2, y2, vx2, vy2, r2, im2, ids2 = \
-            x2, y2, vx2, vy2, r2, im2, ids2, x, y, vx, vy, r, im, ids
-    return steps % 2 == 1
+        # 1. move, and reflect at the walls
+        for i in range(n):
+            r = bodies[i, R]
+            bodies[i, X] += bodies[i, VX] * dt
+            bodies[i, Y] += bodies[i, VY] * dt
+            if bodies[i, X] < box[0] + r:
+                bodies[i, X] = min(2.0 * (box[0] + r) - bodies[i, X], box[2] - r)
+                bodies[i, VX] = abs(bodies[i, VX])
+            elif bodies[i, X] > box[2] - r:
+                bodies[i, X] = max(2.0 * (box[2] - r) - bodies[i, X], box[0] + r)
+                bodies[i, VX] = -abs(bodies[i, VX])
+            if bodies[i, Y] < box[1] + r:
+                bodies[i, Y] = min(2.0 * (box[1] + r) - bodies[i, Y], box[3] - r)
+                bodies[i, VY] = abs(bodies[i, VY])
+            elif bodies[i, Y] > box[3] - r:
+                bodies[i, Y] = max(2.0 * (box[3] - r) - bodies[i, Y], box[1] + r)
+                bodies[i, VY] = -abs(bodies[i, VY])
+        # 2. counting sort: start[c + 1] counts cell c, then start[c] is where cell c begins
+        start[:] = 0
+        for i in range(n):
+            cx = min(int((bodies[i, X] - box[0]) / cell_w), nx - 1)
+            cy = min(int((bodies[i, Y] - box[1]) / cell_h), ny - 1)
+            cell_of[i] = cy * nx + cx
+            start[cell_of[i] + 1] += 1
+        for c in range(nx * ny):
+            start[c + 1] += start[c]
+        for i in range(n):            # start[c] runs ahead as cell c fills...
+            k = start[cell_of[i]]
+            start[cell_of[i]] = k + 1
+            spare[k, :] = bodies[i, :]
+        for c in range(nx * ny, 0, -1):   # ...and ends at cell c + 1's start: shift it back
+            start[c] = start[c - 1]
+        start[0] = 0
+        bodies, spare = spare, bodies
+        # 3. pairs: the rest of the cell and its east neighbour, then the three cells north
+        touching = 0
+        for cy in range(ny):
+            for cx in range(nx):
+                c = cy * nx + cx
+                east_end = start[c + 2] if cx + 1 < nx else start[c + 1]
+                north_lo = c + nx - 1 if cx > 0 else c + nx
+                north_hi = c + nx + 1 if cx + 1 < nx else c + nx
+                for a in range(start[c], start[c + 1]):
+                    for b in range(a + 1, east_end):
+                        touching += bounce(bodies, a, b)
+                    if cy + 1 < ny:
+                        for b in range(start[north_lo], start[north_hi + 1]):
+                            touching += bounce(bodies, a, b)
+    return bodies, spare, touching
 
 
 @njit(cache=True)
-def move(x, y, vx, vy, dt):
-    for i in range(len(x)):
-        x[i] += vx[i] * dt
-        y[i] += vy[i] * dt
-
-
-@njit(cache=True)
-def gather(x, y, vx, vy, r, im, ids, x2, y2, vx2, vy2, r2, im2, ids2,
-           cell_of, start, box, cell_w, cell_h, nx, ny):
-    """Counting sort by cell; start[c]:start[c + 1] are cell c's particles afterwards."""
-    n = len(x)
-    start[:] = 0
-    for i in range(n):
-        cx = min(max(int((x[i] - box[0]) / cell_w), 0), nx - 1)
-        cy = min(max(int((y[i] - box[1]) / cell_h), 0), ny - 1)
-        c = cy * nx + cx
-        cell_of[i] = c
-        start[c + 1] += 1
-    for c in range(nx * ny):
-        start[c + 1] += start[c]
-    for i in range(n):                    # start[c] runs ahead while cell c fills...
-        k = start[cell_of[i]]
-        start[cell_of[i]] = k + 1
-        x2[k], y2[k], vx2[k], vy2[k] = x[i], y[i], vx[i], vy[i]
-        r2[k], im2[k], ids2[k] = r[i], im[i], ids[i]
-    for c in range(nx * ny, 0, -1):       # ...and now stands at cell c + 1's start: shift back
-        start[c] = start[c - 1]
-    start[0] = 0
-
-
-@njit(cache=True)
-def collide_pairs(x, y, vx, vy, r, im, start, nx, ny):
-    """Every touching pair once: inside each cell, and with its E, NW, N and NE neighbours."""
-    for cy in range(ny):
-        for cx in range(nx):
-            c = cy * nx + cx
-            for a in range(start[c], start[c + 1]):
-                for b in range(a + 1, start[c + 1]):
-                    resolve(a, b, x, y, vx, vy, r, im)
-                for dx, dy in ((1, 0), (-1, 1), (0, 1), (1, 1)):
-                    ox, oy = cx + dx, cy + dy
-                    if 0 <= ox < nx and oy < ny:
-                        o = oy * nx + ox
-                        for b in range(start[o], start[o + 1]):
-                            resolve(a, b, x, y, vx, vy, r, im)
-
-
-@njit(cache=True)
-def resolve(a, b, x, y, vx, vy, r, im):
-    """If a and b touch: the elastic impulse when they approach, and push them apart."""
-    dx, dy = x[b] - x[a], y[b] - y[a]
-    reach = r[a] + r[b]
+def bounce(bodies, a, b):
+    """1 if rows a and b touch (and then, if they approach, the elastic impulse), else 0."""
+    dx, dy = bodies[b, X] - bodies[a, X], bodies[b, Y] - bodies[a, Y]
+    reach = bodies[a, R] + bodies[b, R]
     d2 = dx * dx + dy * dy
-    if d2 >= reach * reach or d2 == 0.0:
-        return
-    d = np.sqrt(d2)
-    ux, uy = dx / d, dy / d
-    w = im[a] + im[b]
-    closing = (vx[b] - vx[a]) * ux + (vy[b] - vy[a]) * uy
+    if d2 >= reach * reach:
+        return 0
+    closing = (bodies[b, VX] - bodies[a, VX]) * dx + (bodies[b, VY] - bodies[a, VY]) * dy
     if closing < 0.0:
-        j = -2.0 * closing / w            # e = 1: the normal relative velocity reverses
-        vx[a] -= j * im[a] * ux
-        vy[a] -= j * im[a] * uy
-        vx[b] += j * im[b] * ux
-        vy[b] += j * im[b] * uy
-    push = (reach - d) / w
-    x[a] -= push * im[a] * ux
-    y[a] -= push * im[a] * uy
-    x[b] += push * im[b] * ux
-    y[b] += push * im[b] * uy
-
-
-@njit(cache=True)
-def reflect_walls(x, y, vx, vy, r, box):
-    for i in range(len(x)):
-        x[i], vx[i] = reflect(x[i], vx[i], box[0] + r[i], box[2] - r[i])
-        y[i], vy[i] = reflect(y[i], vy[i], box[1] + r[i], box[3] - r[i])
-
-
-@njit(cache=True)
-def reflect(p, v, low, high):
-    """A coordinate and its velocity kept in [low, high]: mirrored at the wall it passed."""
-    if p < low:
-        p, v = min(2.0 * low - p, high), abs(v)
-    elif p > high:
-        p, v = max(2.0 * high - p, low), -abs(v)
-    return p, v
-
-
-def _in_world_order(a: np.ndarray, b: np.ndarray, ids: np.ndarray) -> np.ndarray:
-    """Columns a, b (n,) kept in cell order, as (n, 2) rows in the World's order (ids: each row's body)."""
-    out = np.empty((len(a), 2))
-    order = ids.astype(np.intp)
-    out[order, 0], out[order, 1] = a, b
-    return out
+        k = -2.0 * closing / (d2 * (bodies[a, INV_M] + bodies[b, INV_M]))   # e = 1: the normal velocity reverses
+        bodies[a, VX] -= k * bodies[a, INV_M] * dx
+        bodies[a, VY] -= k * bodies[a, INV_M] * dy
+        bodies[b, VX] += k * bodies[b, INV_M] * dx
+        bodies[b, VY] += k * bodies[b, INV_M] * dy
+    return 1

@@ -143,3 +143,84 @@ def _scene(world: World, name: str, description: str) -> Scene:
 
 
 WORKLOADS = {"slow_gas": slow_gas, "dense_gas": dense_gas, "fast_gas": fast_gas, "gravity_bounce": gravity_bounce}
+
+
+# --- the gas of `collisim bench broadphase`'s whole steps ------------------------------------
+
+MIX_RADII = (1.0, 1.5, 2.0)      # radii in ratio 5 : 3 : 2, as the broad phases' random gas
+MIX_SHARES = (0.5, 0.3, 0.2)
+MIX_RADII_PER_FRAME = 0.1        # mean speed: a tenth of the mean radius a frame at FPS
+
+
+def shuffled_gas(n: int, packing: float, seed: int = 0, shuffle: bool = True) -> World:
+    """n circles of the size mix in a square box at `packing`, without overlaps, moving in random
+    directions, in a seeded random index order: what a gas's index order looks like once it has
+    mixed (a lattice's index order is its cell order, which flatters any step that walks cells).
+    shuffle=False: the same bodies in the order they were laid out, row by row."""
+    rng = np.random.default_rng(seed)
+    radii = rng.choice(MIX_RADII, size=n, p=MIX_SHARES)
+    side = float(np.sqrt(np.pi * np.sum(radii ** 2) / packing))
+    positions = shelves(radii, side, rng)
+    velocities = random_velocities(n, MIX_RADII_PER_FRAME * float(np.mean(radii)) * FPS, rng)
+    order = rng.permutation(n) if shuffle else np.arange(n)
+    return World(positions[order], velocities[order], radii[order], box=(0.0, 0.0, side, side))
+
+
+def shelves(radii: np.ndarray, side: float, rng) -> np.ndarray:
+    """Centres for circles of these radii in a square of this side, without overlaps: rows as
+    tall as the largest diameter, filled left to right in the given order, the room left in
+    each row and above the last one spread between the circles, which then move at random
+    within what room they have. (A square lattice cannot hold the size mix above packing 0.3.)"""
+    pitch = 2.0 * float(radii.max()) * (1.0 + GAP)
+    widths = 2.0 * radii * (1.0 + GAP)
+    rows, row, used = [], [], 0.0
+    for i, width in enumerate(widths):
+        if used + width > side and row:
+            rows.append(row)
+            row, used = [], 0.0
+        row.append(i)
+        used += width
+    rows.append(row)
+    row_pitch = side / len(rows)
+    if row_pitch < pitch or max(widths[row].sum() for row in rows) > side:
+        raise ValueError(f"{len(radii)} circles of radius up to {radii.max():g} do not fit a box of side {side:.4g}")
+    centres = np.empty((len(radii), 2))
+    for k, row in enumerate(rows):
+        spare = (side - widths[row].sum()) / len(row)          # room around each circle of the row
+        left = np.concatenate([[0.0], np.cumsum(widths[row] + spare)[:-1]])
+        x_room = 0.5 * spare
+        y_room = 0.5 * (row_pitch - widths[row])
+        centres[row, 0] = left + 0.5 * (widths[row] + spare) + rng.uniform(-1, 1, len(row)) * x_room
+        centres[row, 1] = (k + 0.5) * row_pitch + rng.uniform(-1, 1, len(row)) * y_room
+    return centres
+
+
+# --- pyramids of boxes, for `collisim bench polygons` ----------------------------------------
+
+PYRAMID_PITCH = 1.125     # unit boxes side by side with gaps of 1/8, each row set half a pitch in
+PYRAMID_FRICTION = 0.6
+PYRAMID_GRAVITY = 10.0
+
+
+def pyramid_rows(base: int, x0: float) -> np.ndarray:
+    """Centres of a pyramid of unit boxes standing on y = 0 from x0: `base` boxes in its bottom
+    row, one fewer in each row above (base·(base + 1)/2 boxes)."""
+    rows = [np.column_stack([x0 + 0.5 + (k / 2 + np.arange(base - k)) * PYRAMID_PITCH, np.full(base - k, 0.5 + k)])
+            for k in range(base)]
+    return np.concatenate(rows)
+
+
+def pyramids(base: int, count: int = 1) -> World:
+    """`count` pyramids of base `base` side by side on the floor of a box, e = 0, μ = 0.6, g = 10:
+    pyramids(40) is 820 boxes, pyramids(10, 10) ten of 55."""
+    from ...shapes import box
+
+    width = (base - 1) * PYRAMID_PITCH + 1.0
+    spacing = width + 2.0
+    centres = np.concatenate([pyramid_rows(base, 1.0 + p * spacing) for p in range(count)])
+    world_box = (0.0, 0.0, count * spacing + 1.0, base + 10.0)
+    return World(centres, polygons=[box(1.0, 1.0)] * len(centres), angles=0.0, box=world_box,
+                 gravity=(0.0, -PYRAMID_GRAVITY), restitution=0.0, friction=PYRAMID_FRICTION)
+
+
+PYRAMIDS = {"pyramid40": lambda: pyramids(40), "pyramids10": lambda: pyramids(10, 10)}

@@ -12,9 +12,11 @@ What it sets up
 * one dynamic `pymunk.Body(mass, moment)` per body with the World's mass and moment of
   inertia (`World.inertias`: ½·m·r² for a disc, the polygon's own for a polygon), angle and
   spin, and a `pymunk.Circle` or a `pymunk.Poly` of the same vertices on it (reference/bodies.py);
-* elasticity = the World's restitution and friction = the World's μ on every shape (Chipmunk
-  multiplies the two shapes' values, so two bodies meet with e² and μ², a body and a wall with e
-  and μ: what a user gets; the gas workloads are elastic and frictionless, where the two agree);
+* materials matched to the World's: Chipmunk's default collision handler multiplies the two
+  shapes' elasticities and frictions, so every shape, walls and segments included, gets √e and
+  √μ, and every pair and every body on a wall meets with exactly the World's e and μ (shapes
+  set to e and μ would meet each other with e² and μ²: a softer, more slippery pile than the
+  World's; the elastic frictionless gases are the same either way);
 * the box as four static segments of radius 0 lying on its edges, each on its own static body
   (a static body costs nothing in a step; it only lets a recorded run tell the walls apart),
   and the World's thin segments (a map's exact outline included) as static segments of radius
@@ -23,7 +25,8 @@ What it sets up
   body, a Python call per body per step: pymunk offers nothing cheaper);
 * everything else left at Chipmunk's defaults: no collision handler, collision_slop 0.1,
   collision_bias (10 % of an overlap corrected per 1/60 s), 10 iterations, damping 1,
-  collision_persistence 3, the default spatial index, no sleeping.
+  collision_persistence 3, the default spatial index, no sleeping (`sleep_time_threshold`
+  turns Chipmunk's sleeping on: a body idle that long sleeps, with its island).
 
 A frame of k substeps is k calls of `space.step(1 / (fps·k))`. `time_steps` times exactly those
 calls. A recorded run (`record`) also reads, after each step, every body's pose and velocity
@@ -61,9 +64,11 @@ _ARBITER_FIELDS = (_A.BODY_A_ID | _A.BODY_B_ID | _A.IS_FIRST_CONTACT | _A.CONTAC
 class PlainPymunk:
     """A default pymunk Space holding a World (see the module docstring)."""
 
-    def __init__(self, world):
+    def __init__(self, world, sleep_time_threshold: float | None = None):
         self.world = world
         self.space = pymunk.Space()
+        if sleep_time_threshold is not None:
+            self.space.sleep_time_threshold = float(sleep_time_threshold)
         self.space.damping = float(world.damping)
         uniform = world.uniform_acceleration
         if uniform:
@@ -81,8 +86,10 @@ class PlainPymunk:
         self._buffer = pymunk.batch.Buffer()
 
     def _set_material(self, shape) -> None:
-        """Every shape, walls and segments included: the World's e and μ (see the docstring)."""
-        shape.elasticity, shape.friction = float(self.world.restitution), float(self.world.friction)
+        """Every shape, walls and segments included: √e and √μ, so that pairs meet with e and μ
+        (see the module docstring)."""
+        shape.elasticity = math.sqrt(float(self.world.restitution))
+        shape.friction = math.sqrt(float(self.world.friction))
 
     def _static_segment(self, ends) -> pymunk.Body:
         x0, y0, x1, y1 = (float(v) for v in ends)
@@ -119,8 +126,14 @@ class PlainPymunk:
 
     def state(self) -> tuple:
         """(positions (n, 2), velocities (n, 2), angles (n,), angular velocities (n,)) in the
-        World's order, read in one batch call."""
-        return read_state(self.space, self.world.n, self._buffer)
+        World's order, read in one batch call (body by body once sleeping is on: Chipmunk keeps
+        sleeping bodies out of the space's body array, which the batch call reads)."""
+        if self.space.sleep_time_threshold == math.inf:
+            return read_state(self.space, self.world.n, self._buffer)
+        bodies = self.bodies
+        return (np.array([tuple(b.position) for b in bodies]).reshape(-1, 2),
+                np.array([tuple(b.velocity) for b in bodies]).reshape(-1, 2),
+                np.array([b.angle for b in bodies]), np.array([b.angular_velocity for b in bodies]))
 
     def record(self, fps: float, frames: int, substeps: int = 1) -> Trajectory:
         """Advance `frames` frames and record every frame and every contact (see the module
@@ -146,6 +159,10 @@ class PlainPymunk:
                           candidates=np.zeros(frames + 1, np.int64), approximate=np.zeros(frames + 1, bool),
                           world=w, fps=fps, events=reader.events(), method="pymunk", broadphase="",
                           substeps=substeps, profile={"step": spent})
+
+    def asleep(self) -> int:
+        """How many bodies Chipmunk has put to sleep."""
+        return sum(body.is_sleeping for body in self.bodies)
 
     def installed_handlers(self) -> int:
         """How many collision handlers the Space holds (0: no callback runs in a step)."""
