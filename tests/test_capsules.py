@@ -265,3 +265,16 @@ def test_a_capsule_is_drawn_filled_to_its_round_ends():
     # inside it (its colour at full strength) and every pixel it touches (edge and anti-aliasing)
     full = (canvas[:, :, 2] == 200).sum()
     assert full < 40 ** 2 * world.masses[0] < filled.sum() < 1.05 * 40 ** 2 * world.masses[0]
+
+
+def test_a_fast_spinning_capsule_stays_in_the_box_and_keeps_its_energy():
+    # five of its lengths a frame: the walls' rows, not a polygon's flight at its vertices
+    world = World([(5.0, 5.0)], velocities=[(50.0, 13.0)], angular_velocities=[3.0], shapes=[capsule(1.0, 0.2)],
+                  box=BOX, restitution=1.0)
+    trajectory = run(world, 2.0)
+    assert trajectory.wall_collisions.sum() >= 10
+    for f in range(len(trajectory.times)):
+        centres = world.placed_vertices(trajectory.positions[f], trajectory.angles[f])
+        assert centres.min() >= 0.2 - 1e-9 and centres.max() <= 10.0 - 0.2 + 1e-9
+    kinetic = trajectory.kinetic_energy()
+    assert np.abs(kinetic - kinetic[0]).max() <= 1e-9 * kinetic[0]
