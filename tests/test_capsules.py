@@ -278,3 +278,31 @@ def test_a_fast_spinning_capsule_stays_in_the_box_and_keeps_its_energy():
         assert centres.min() >= 0.2 - 1e-9 and centres.max() <= 10.0 - 0.2 + 1e-9
     kinetic = trajectory.kinetic_energy()
     assert np.abs(kinetic - kinetic[0]).max() <= 1e-9 * kinetic[0]
+
+
+def test_the_bounding_volume_funnel_holds_capsules_and_its_exact_level_is_shapely():
+    from collisim.engine.hierarchy import hierarchy
+    rng = np.random.default_rng(11)
+    kinds = [capsule(1.6, 0.4), capsule(0.5, 0.6), box(1.0, 0.6), None]
+    world = World([(1.5 + 2.2 * (k % 4), 1.5 + 2.4 * (k // 4)) for k in range(16)], radii=0.5,
+                  shapes=[kinds[k % 4] for k in range(16)], box=(0, 0, 10, 10))
+    pairs = np.array([(i, j) for i in range(16) for j in range(i + 1, 16)])
+    touching_pairs = 0
+    for _ in range(20):
+        positions = rng.uniform(1.5, 8.5, (16, 2))
+        angles = rng.uniform(0, 2 * np.pi, 16)
+        placed = world.placed_vertices(positions, angles)
+        def shape(i):
+            rows = placed[world.vertex_start[i]:world.vertex_start[i + 1]]
+            if np.isnan(world.capsule_radii[i]):
+                return Polygon(rows) if len(rows) else Point(positions[i]).buffer(0.5, quad_segs=256)
+            return LineString(rows).buffer(world.capsule_radii[i], quad_segs=256)
+        found = hierarchy(world, positions, angles, pairs=pairs)
+        for (i, j), passes in zip(found["pairs"], found["passes"]):
+            distance = shape(i).distance(shape(j))
+            if distance > 1e-3:
+                assert not passes[3]
+            elif shape(i).intersection(shape(j)).area > 1e-3:
+                assert passes.all()          # every volume holds its shape: none rejects a touching pair
+                touching_pairs += 1
+    assert touching_pairs > 20
