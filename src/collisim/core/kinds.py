@@ -15,7 +15,6 @@ CIRCLE, POLYGON = np.int64(0), np.int64(1)
 # radius): its two cap centres are its "vertices" in the vertex table, its radii entry the
 # bounding circle's (narrowphase/capsules.py).
 CAPSULE = np.int64(2)
-SHAPE_NAMES = {CIRCLE: "circle", POLYGON: "polygon", CAPSULE: "capsule"}
 
 WALL, PAIR, SEGMENT = np.int64(0), np.int64(1), np.int64(2)
 # A collision with the collision map (statics/collision_map.py). Its `j` is the map segment
