@@ -1,15 +1,17 @@
-"""Polygon shapes for users: a box, a regular polygon, and the check that turns any list of
+"""Shapes for users: a box, a regular polygon, a capsule, and the check that turns any list of
 vertices into the convex, counter-clockwise (k, 2) array the engine expects (or one clear line
 saying why it cannot).
 
     >>> box(2.0, 1.0)                       # (4, 2), centred on the origin, counter-clockwise
     >>> regular(6, 1.0)                     # a hexagon with one vertex at (1, 0)
+    >>> capsule(2.0, 0.5)                   # cap centres (-1, 0) and (1, 0), radius 0.5
     >>> vertices, note = convex_polygon([[0, 0], [0, 1], [1, 0]], name="body 3's polygon")
     >>> note                                # "body 3's polygon wound clockwise; reversed ..."
 """
 from __future__ import annotations
 
 import numbers
+from collections import namedtuple
 
 import numpy as np
 
@@ -25,6 +27,18 @@ def box(width, height) -> np.ndarray:
     w = 0.5 * number("box width", width, positive=True)
     h = 0.5 * number("box height", height, positive=True)
     return np.array([[-w, -h], [w, -h], [w, h], [-w, h]])
+
+
+class Capsule(namedtuple("Capsule", ["length", "radius"])):
+    """Two half-discs of `radius` whose centres lie `length` apart on the body's x axis, joined
+    by the rectangle between them (Box2D's capsule; pymunk's Segment((-length/2, 0),
+    (length/2, 0), radius)). Its centroid is the body origin, midway between the centres."""
+    __slots__ = ()
+
+
+def capsule(length, radius) -> Capsule:
+    """The capsule of cap centres (±length/2, 0) and `radius` (both > 0), for World(shapes=...)."""
+    return Capsule(number("capsule length", length, positive=True), number("capsule radius", radius, positive=True))
 
 
 def regular(k, radius) -> np.ndarray:

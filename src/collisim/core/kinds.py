@@ -11,6 +11,10 @@ import numpy as np
 # kernel handed one compiles a copy per value (append(log, t, PAIR, ...) and append(log, t, WALL,
 # ...) would be two compiles of one function); a numpy integer is typed int64 whatever its value.
 CIRCLE, POLYGON = np.int64(0), np.int64(1)
+# Two half-discs joined by a rectangle (shapes.capsule; Box2D's capsule, pymunk's Segment with a
+# radius): its two cap centres are its "vertices" in the vertex table, its radii entry the
+# bounding circle's (narrowphase/capsules.py).
+CAPSULE = np.int64(2)
 
 WALL, PAIR, SEGMENT = np.int64(0), np.int64(1), np.int64(2)
 # A collision with the collision map (statics/collision_map.py). Its `j` is the map segment

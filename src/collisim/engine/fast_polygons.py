@@ -40,7 +40,7 @@ from numba.core import types
 from numba.extending import overload
 
 from ..core.compiling import kernel
-from ..core.kinds import CIRCLE, WALL
+from ..core.kinds import CIRCLE, POLYGON, WALL
 from .eventlog import append, with_room
 
 TOUCH = 1e-9          # of the body's bounding radius: a vertex this close to a wall touches it
@@ -117,7 +117,9 @@ def _mark_swept(polygons, bodies, dt, in_pair, restitution, segments, asleep, fa
         b, count, left_out = bodies, 0, asleep
         if restitution > 0.0:
             for i in range(b.positions.shape[0]):
-                if b.shapes[i] == CIRCLE or asleep[i] or in_pair[i]:
+                # polygons only: the flight meets the walls at the vertices, and a capsule's
+                # (its cap centres) lie its radius inside its outline; it keeps its wall rows
+                if b.shapes[i] != POLYGON or asleep[i] or in_pair[i]:
                     continue
                 reach = _reach(b, dt, i)
                 if reach <= b.radii[i] or _near_a_segment(segments, b.positions[i, 0], b.positions[i, 1],

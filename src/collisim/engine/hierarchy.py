@@ -39,7 +39,7 @@ from ..broadphase import find_pairs
 from ..broadphase.step import candidate_pairs
 from ..core.compiling import kernel
 from ..core.geometry.polygon import oriented_box, place_polygons, polygon_bounds
-from ..core.kinds import CIRCLE
+from ..core.kinds import CAPSULE, CIRCLE, POLYGON
 from ..model.trajectory import NOT_COUNTED
 from ..narrowphase.circles import circles_touch
 from ..narrowphase.manifold import shapes_touch
@@ -53,12 +53,15 @@ XMIN, YMIN, XMAX, YMAX, CX, CY, UX, UY, HALF_W, HALF_H = range(10)
 def frame_boxes(shapes, body_vertices, vertex_start):
     """Each polygon's oriented box in its body frame (n, 5): centre x, y, half extents, the angle
     of its half-width axis (geometry/polygon.py: oriented_box; zeros for circles). A body's box
-    turns with it, so this is found once and only placed at each state (body_volumes)."""
+    turns with it, so this is found once and only placed at each state (body_volumes). A
+    capsule's is its core's (half width half its length, no height)."""
     boxes = np.zeros((shapes.shape[0], 5))
     for i in range(shapes.shape[0]):
-        if shapes[i] != CIRCLE:
+        if shapes[i] == POLYGON:
             boxes[i, 0], boxes[i, 1], boxes[i, 2], boxes[i, 3], boxes[i, 4] = oriented_box(
                 body_vertices[vertex_start[i]:vertex_start[i + 1]])
+        elif shapes[i] == CAPSULE:   # its core along x: body_volumes rounds it by the radius
+            boxes[i, 2] = body_vertices[vertex_start[i] + 1, 0]
     return boxes
 
 
@@ -83,6 +86,8 @@ def body_volumes(shapes, positions, angles, radii, boxes, vertex_start, vertices
             volumes[i, CX], volumes[i, CY] = x + c * cx - sn * cy, y + sn * cx + c * cy
             volumes[i, UX], volumes[i, UY] = math.cos(angles[i] + turn), math.sin(angles[i] + turn)
             volumes[i, HALF_W], volumes[i, HALF_H] = half_w, half_h
+        if shapes[i] == CAPSULE:
+            grow += r - boxes[i, 2]   # its core's box and oriented box, rounded by its own radius
         volumes[i, XMIN] -= grow
         volumes[i, YMIN] -= grow
         volumes[i, XMAX] += grow

@@ -12,8 +12,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..broadphase import NAMES as BROAD_PHASES
-from ..core.kinds import CIRCLE
-from ..narrowphase.manifold import polygon_segment_manifold
+from ..core.kinds import CAPSULE, CIRCLE, POLYGON
+from ..narrowphase.manifold import shape_segment_manifold
 from ..narrowphase.statics import touching_segments
 from ..queries.contacts import contacts
 
@@ -39,9 +39,11 @@ def check_scene(scene, methods) -> None:
 
 def check_ccd_covers(world) -> None:
     """ValueError, in one line, for a world the event-driven method does not model, which it
-    would otherwise run without a word: polygons, gravity that differs from body to body,
+    would otherwise run without a word: polygons, capsules, gravity that differs from body to body,
     friction, damping. (It moves circles exactly along parabolas between frictionless impacts.)"""
-    if np.any(world.shapes != CIRCLE):
+    if np.any(world.shapes == CAPSULE):
+        raise ValueError("method ccd covers circles, segments and maps; this scene has capsules: use method discrete")
+    if np.any(world.shapes == POLYGON):
         raise ValueError("method ccd covers circles, segments and maps; this scene has polygons: use method discrete")
     if not world.uniform_acceleration:
         raise ValueError("method ccd needs one uniform gravity for all particles")
@@ -76,13 +78,14 @@ def no_overlaps(world) -> None:
 
 
 def _polygon_depths(world, pairs, depths):
-    """depths of (body, segment) pairs found by bounding circles, exact for polygon bodies."""
-    polygons = np.flatnonzero(world.shapes[pairs[:, 0]] != CIRCLE)
+    """depths of (body, segment) pairs found by bounding circles, exact for polygons and capsules."""
+    polygons = np.flatnonzero(world.shapes[pairs[:, 0]] != CIRCLE)   # polygons and capsules
     if polygons.size == 0:
         return depths
     depths, vertices = depths.copy(), world.placed_vertices()
     for row in polygons:   # a start-up check, once per world: not a hot path
-        m = polygon_segment_manifold(vertices, world.vertex_start, pairs[row, 0], world.segments, pairs[row, 1], 0.0)
+        m = shape_segment_manifold(world.shapes, world.radii, vertices, world.vertex_start, pairs[row, 0],
+                                   world.segments, pairs[row, 1], 0.0)
         depths[row] = m[3] if m[2] > 0 else -1.0
     return depths
 

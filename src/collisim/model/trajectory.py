@@ -203,6 +203,8 @@ class Trajectory:
         arrays.update({f"event_{name}": getattr(self.events, name) for name in _EVENT_FIELDS})
         arrays.update({f"world_{name}": getattr(self.world, name) for name in _WORLD_FIELDS})
         arrays.update(world_vertex_start=self.world.vertex_start, world_body_vertices=self.world.body_vertices)
+        if not np.all(np.isnan(self.world.capsule_radii)):   # files without capsules keep their bytes
+            arrays.update(world_capsule_radii=self.world.capsule_radii)
         if self.world.map is not None:
             arrays.update({f"map_{name}": value for name, value in self.world.map.to_arrays().items()})
         meta = dict(format=FILE_FORMAT, friction=self.world.friction, damping=self.world.damping, fps=self.fps, method=self.method,
@@ -285,7 +287,8 @@ def _embedded_map(arrays: dict, path):
 
 
 def _polygons(arrays) -> list | None:
-    """The World's polygons argument from a file's vertex table (None for files of circles)."""
+    """The World's shapes argument from a file's vertex table and capsule radii (None for files
+    of circles)."""
     if "world_vertex_start" not in arrays:
         return None
-    return polygons_of(arrays["world_vertex_start"], arrays["world_body_vertices"])
+    return polygons_of(arrays["world_vertex_start"], arrays["world_body_vertices"], arrays.get("world_capsule_radii"))

@@ -13,7 +13,7 @@ from ..palette import default_colors
 from ..core import checks
 from ..core.geometry.polygon import place_polygons
 from .bodyshapes import polygons_of, shape_table
-from ..core.kinds import POLYGON
+from ..core.kinds import CAPSULE, CIRCLE, POLYGON
 
 
 class World:
@@ -30,10 +30,13 @@ class World:
     masses: (n,)                 > 0; by default proportional to area (density 1)
     inertias: (n,)               moment of inertia about the centre of mass, from the shape
                                  (½·m·r² for a disc)
-    shapes: (n,) int8            shape kind of each body (kinds.CIRCLE, kinds.POLYGON)
-    polygons: None, or n entries: None (a circle) or the polygon's vertices (k, 2) in the body
-                                 frame; kept about the centroid (model/bodyshapes.py)
-    vertex_start (n + 1,), body_vertices (V, 2): every polygon's vertices about its centroid
+    shapes: (n,) int8            shape kind of each body (kinds.CIRCLE, POLYGON, CAPSULE)
+    shapes= (the argument; polygons= is the same): None, or n entries: None (a circle), a
+                                 shapes.capsule(length, radius), or a polygon's vertices (k, 2)
+                                 in the body frame, kept about the centroid (model/bodyshapes.py)
+    vertex_start (n + 1,), body_vertices (V, 2): every polygon's vertices about its centroid,
+                                 and every capsule's two cap centres (±length/2, 0)
+    capsule_radii: (n,)          each capsule's own radius (NaN for other bodies)
     friction: μ >= 0 for every contact (Coulomb; 0 = frictionless)
     colors: (n, 3) uint8         RGB; by default one colour per size class
     Statics:
@@ -49,10 +52,13 @@ class World:
     def __init__(self, positions, velocities=None, radii=1.0, masses=None, *,
                  box=(0.0, 0.0, 10.0, 10.0), gravity=(0.0, 0.0), accelerations=None,
                  colors=None, restitution: float = 1.0, segments=None, angles=0.0,
-                 angular_velocities=0.0, map=None, polygons=None, friction: float = 0.0, damping: float = 1.0):
+                 angular_velocities=0.0, map=None, polygons=None, friction: float = 0.0, damping: float = 1.0,
+                 shapes=None):
         self.positions = checks.positions_array(positions)
         n = len(self.positions)
-        table = shape_table(polygons, n)
+        if shapes is not None and polygons is not None:
+            raise ValueError("give the bodies' shapes once: shapes= or polygons= (the same argument), not both")
+        table = shape_table(polygons if shapes is None else shapes, n)
         self.velocities = checks.per_body("velocities", 0.0 if velocities is None else velocities, n, 2)
         self.angles = checks.per_body("angles", 0.0 if angles is None else angles, n)
         self.angular_velocities = checks.per_body("angular_velocities",
@@ -61,7 +67,8 @@ class World:
         self.accelerations = checks.per_body("accelerations", self.gravity if accelerations is None
                                                else accelerations, n, 2)
         self.radii = checks.per_body("radii", radii, n)
-        polygon = table.shapes == POLYGON
+        # the shapes whose size the table gives (a capsule's radius there is its bounding circle's)
+        polygon = (table.shapes == POLYGON) | (table.shapes == CAPSULE)
         self.radii = np.where(polygon, table.radii, self.radii)
         self.positions = self.positions + _rotated(table.offsets, self.angles)   # to the centroids
         areas = np.where(polygon, table.areas, np.pi * self.radii ** 2)
@@ -70,6 +77,7 @@ class World:
             i = int(np.flatnonzero((self.masses == 0) & (self.radii > 0))[0])
             raise ValueError(f"radius {self.radii[i]:g} of body {i} is too small: its area is 0 in floating point")
         self.shapes, self.vertex_start, self.body_vertices = table.shapes, table.start, table.vertices
+        self.capsule_radii = table.capsule_radii
         self._inertia_per_mass = np.where(polygon, table.second_moments / np.where(polygon, table.areas, 1.0),
                                           0.5 * self.radii ** 2)
         self.notes = list(table.notes)
@@ -108,20 +116,22 @@ class World:
 
     def extents(self) -> tuple[np.ndarray, np.ndarray]:
         """Each body's axis-aligned bounds (n, 2) lo, hi at its pose: centre ± radius for a
-        circle, its vertices' for a polygon."""
+        circle, its vertices' for a polygon, its cap centres' ± its radius for a capsule."""
         r = self.radii[:, None]
         lo, hi = self.positions - r, self.positions + r
-        polygons = np.flatnonzero(self.shapes == POLYGON)
-        if polygons.size:
-            corners, starts = self.placed_vertices(), self.vertex_start[polygons]
-            lo[polygons] = np.minimum.reduceat(corners, starts, axis=0)
-            hi[polygons] = np.maximum.reduceat(corners, starts, axis=0)
+        shaped = np.flatnonzero(self.shapes != CIRCLE)   # a polygon's or capsule's rows of the vertex table
+        if shaped.size:
+            corners, starts = self.placed_vertices(), self.vertex_start[shaped]
+            round_by = np.where(self.shapes[shaped] == CAPSULE, self.capsule_radii[shaped], 0.0)[:, None]
+            lo[shaped] = np.minimum.reduceat(corners, starts, axis=0) - round_by
+            hi[shaped] = np.maximum.reduceat(corners, starts, axis=0) + round_by
         return lo, hi
 
     @property
     def polygons(self) -> list | None:
-        """Each body's polygon about its centroid (None for a circle), or None if all are circles."""
-        return polygons_of(self.vertex_start, self.body_vertices)
+        """Each body's shape as World's `shapes` argument takes it: None for a circle, its
+        shapes.Capsule, or its polygon about its centroid; None if all are circles."""
+        return polygons_of(self.vertex_start, self.body_vertices, self.capsule_radii)
 
     @property
     def level_segments(self) -> np.ndarray:
@@ -161,6 +171,9 @@ class World:
         if np.any(self.shapes == POLYGON) and self.map is not None:
             raise ValueError("polygon bodies meet the box walls, segments and each other; collision maps "
                              "collide with circles only: leave the map out of a world with polygons")
+        if np.any(self.shapes == CAPSULE) and self.map is not None:
+            raise ValueError("capsules meet the box walls, segments and every other body; collision maps "
+                             "collide with circles only: leave the map out of a world with capsules")
 
     def _moves_where_it_fits(self, lo, hi) -> None:
         """ValueError for a body as wide (or as tall) as the box that moves across it: pressed
@@ -179,6 +192,8 @@ class World:
         """A body as an error names it: a particle by its radius, a polygon as one."""
         if self.shapes[i] == POLYGON:
             return f"polygon {i}"
+        if self.shapes[i] == CAPSULE:
+            return f"capsule {i}"
         return f"particle {i} (radius {self.radii[i]:g})"
 
     def _beyond(self, i: int, lo, hi) -> str:

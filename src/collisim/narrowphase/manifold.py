@@ -24,7 +24,9 @@ from numba.core import types
 from numba.extending import overload
 
 from ..core.compiling import kernel
-from ..core.kinds import CIRCLE
+from ..core.kinds import CAPSULE, CIRCLE, POLYGON
+from .capsules import (capsule_pair_manifold, capsule_pair_swept_gap, capsule_pair_touch, capsule_segment_manifold,
+                       capsule_wall_manifold)
 from .circles import circle_circle, circles_touch
 from .polygons import (box_wall_halfplane, placed_polygons_touch, polygon_circle, polygon_circle_touch,
                        polygon_halfplane, polygon_segment, speculative_polygons)
@@ -79,6 +81,9 @@ def pair_manifold(shapes, positions, radii, vertices, start, i, j, margin):
     `margin` apart; count 0 if they are farther."""
     if shapes[i] == CIRCLE and shapes[j] == CIRCLE:
         return _circles(positions, radii, i, j, margin)
+    if shapes[i] == CAPSULE or shapes[j] == CAPSULE:
+        return capsule_pair_manifold(shapes, positions, radii, vertices, start, i, j, margin)
+    # from here on, circles and polygons only
     if shapes[j] == CIRCLE:
         return _polygon_circle(vertices[start[i]:start[i + 1]], positions[j, 0], positions[j, 1], radii[j], margin)
     if shapes[i] == CIRCLE:
@@ -93,6 +98,9 @@ def pair_swept_gap(shapes, positions, radii, vertices, start, i, j, dx, dy):
     body j moves by (dx, dy) relative to body i, turning neither (narrowphase/sweep.py)."""
     if shapes[i] == CIRCLE and shapes[j] == CIRCLE:
         return _circles_swept(positions, radii, i, j, dx, dy)
+    if shapes[i] == CAPSULE or shapes[j] == CAPSULE:
+        return capsule_pair_swept_gap(shapes, positions, radii, vertices, start, i, j, dx, dy)
+    # from here on, circles and polygons only
     if shapes[j] == CIRCLE:
         return swept_polygon_circle(vertices[start[i]:start[i + 1]], positions[j, 0], positions[j, 1], radii[j],
                                     dx, dy)
@@ -113,6 +121,9 @@ def shapes_touch(shapes, positions, radii, vertices, start, i, j):
     """Do the shapes of bodies i and j overlap or touch? (The exact test alone, no manifold.)"""
     if shapes[i] == CIRCLE and shapes[j] == CIRCLE:
         return circles_touch(positions, radii, i, j)
+    if shapes[i] == CAPSULE or shapes[j] == CAPSULE:
+        return capsule_pair_touch(shapes, positions, radii, vertices, start, i, j)
+    # from here on, circles and polygons only
     if shapes[j] == CIRCLE:
         return polygon_circle_touch(vertices[start[i]:start[i + 1]], positions[j, 0], positions[j, 1], radii[j])
     if shapes[i] == CIRCLE:
@@ -156,6 +167,28 @@ def polygon_segment_manifold(vertices, start, i, segments, k, margin):
     return _given_back(touching, back)
 
 
+@njit(cache=True)
+def shape_wall_manifold(shapes, radii, vertices, start, i, box, wall, margin):
+    """The manifold of body i, a polygon or a capsule, and one box wall (normal into the wall);
+    none for a circle (the walls bounce circles themselves: engine/statics_paths.py)."""
+    if shapes[i] == POLYGON:
+        return polygon_wall_manifold(vertices, start, i, box, wall, margin)
+    if shapes[i] == CAPSULE:
+        return capsule_wall_manifold(radii, vertices, start, i, box, wall, margin)
+    return NONE
+
+
+@njit(cache=True)
+def shape_segment_manifold(shapes, radii, vertices, start, i, segments, k, margin):
+    """The manifold of body i, a polygon or a capsule, and segment k (normal from the body
+    toward the segment); none for a circle (engine/statics_paths.py holds circles)."""
+    if shapes[i] == POLYGON:
+        return polygon_segment_manifold(vertices, start, i, segments, k, margin)
+    if shapes[i] == CAPSULE:
+        return capsule_segment_manifold(radii, vertices, start, i, segments, k, margin)
+    return NONE
+
+
 # --- compiled only for worlds with polygons ----------------------------------------------------------
 # The engine and contacts() call these with `polygons`: True for a world with polygons, None for
 # a world of circles. Numba picks the implementation by that type when the caller compiles (as
@@ -177,13 +210,13 @@ def body_pair_swept_gap(polygons, shapes, positions, radii, vertices, start, i, 
     raise NotImplementedError("body_pair_swept_gap is called from compiled code")
 
 
-def body_wall_manifold(polygons, vertices, start, i, box, wall, margin):
-    """polygon_wall_manifold; no contact for a world of circles (it has no polygon)."""
+def body_wall_manifold(polygons, shapes, radii, vertices, start, i, box, wall, margin):
+    """shape_wall_manifold; no contact for a world of circles (it has no polygon nor capsule)."""
     raise NotImplementedError("body_wall_manifold is called from compiled code")
 
 
-def body_segment_manifold(polygons, vertices, start, i, segments, k, margin):
-    """polygon_segment_manifold; no contact for a world of circles (it has no polygon)."""
+def body_segment_manifold(polygons, shapes, radii, vertices, start, i, segments, k, margin):
+    """shape_segment_manifold; no contact for a world of circles (it has no polygon nor capsule)."""
     raise NotImplementedError("body_segment_manifold is called from compiled code")
 
 
@@ -214,16 +247,16 @@ def _body_pair_swept_gap(polygons, shapes, positions, radii, vertices, start, i,
 
 
 @overload(body_wall_manifold)
-def _body_wall_manifold(polygons, vertices, start, i, box, wall, margin):
+def _body_wall_manifold(polygons, shapes, radii, vertices, start, i, box, wall, margin):
     if isinstance(polygons, types.NoneType):
-        return lambda polygons, vertices, start, i, box, wall, margin: NONE
-    return lambda polygons, vertices, start, i, box, wall, margin: polygon_wall_manifold(
-        vertices, start, i, box, wall, margin)
+        return lambda polygons, shapes, radii, vertices, start, i, box, wall, margin: NONE
+    return lambda polygons, shapes, radii, vertices, start, i, box, wall, margin: shape_wall_manifold(
+        shapes, radii, vertices, start, i, box, wall, margin)
 
 
 @overload(body_segment_manifold)
-def _body_segment_manifold(polygons, vertices, start, i, segments, k, margin):
+def _body_segment_manifold(polygons, shapes, radii, vertices, start, i, segments, k, margin):
     if isinstance(polygons, types.NoneType):
-        return lambda polygons, vertices, start, i, segments, k, margin: NONE
-    return lambda polygons, vertices, start, i, segments, k, margin: polygon_segment_manifold(
-        vertices, start, i, segments, k, margin)
+        return lambda polygons, shapes, radii, vertices, start, i, segments, k, margin: NONE
+    return lambda polygons, shapes, radii, vertices, start, i, segments, k, margin: shape_segment_manifold(
+        shapes, radii, vertices, start, i, segments, k, margin)

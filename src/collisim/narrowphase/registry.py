@@ -13,13 +13,30 @@ the overlap depth (negative when apart) and the contact point.
 import numpy as np
 from numba import njit
 
-from ..core.kinds import CIRCLE
+from ..core.kinds import CAPSULE, CIRCLE, POLYGON
+from .capsules import capsule_capsule, capsule_circle, capsule_halfplane, rounded_cores
 from .circles import circle_circle, circles_touch
-from .manifold import body_pair_manifold
+from .manifold import body_pair_manifold, polygon_segment_manifold, polygon_wall_manifold
+from .polygons import polygon_circle, speculative_polygons
 from .statics import circle_segment
 
 SHAPE_PAIRS = {(CIRCLE, CIRCLE): (circles_touch, circle_circle)}
 STATIC_PAIRS = {(CIRCLE, "segment"): circle_segment}
+# [kind][kind] -> the function that makes their manifold, for readers and tests: what
+# manifold.pair_manifold dispatches to (its first kind is the row's; the other order is the
+# same function with the normal flipped). A capsule is a core rounded by its radius
+# (narrowphase/capsules.py), so every pair with a capsule is one of two functions.
+PAIR_MANIFOLDS = {
+    (CIRCLE, CIRCLE): circle_circle,
+    (POLYGON, CIRCLE): polygon_circle, (POLYGON, POLYGON): speculative_polygons,
+    (CAPSULE, CIRCLE): capsule_circle, (POLYGON, CAPSULE): rounded_cores, (CAPSULE, CAPSULE): capsule_capsule,
+}
+# a kind against the box walls and the thin segments (response/rows.py: wall_manifolds and
+# segment_manifolds; circles meet both in engine/statics_paths.py)
+STATIC_MANIFOLDS = {
+    (POLYGON, "wall"): polygon_wall_manifold, (POLYGON, "segment"): polygon_segment_manifold,
+    (CAPSULE, "wall"): capsule_halfplane, (CAPSULE, "segment"): capsule_capsule,
+}
 
 
 @njit(cache=True)

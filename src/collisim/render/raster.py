@@ -14,7 +14,8 @@ import cv2
 import numpy as np
 
 from .. import palette
-from ..core.kinds import CIRCLE
+from ..core.geometry.capsule import capsule_outline
+from ..core.kinds import CAPSULE, CIRCLE
 from . import splat
 
 SHIFT = 4
@@ -221,9 +222,12 @@ def draw_polygons(canvas, outlines_px, colors_rgb) -> None:
 
 
 def polygon_outlines(world, positions, angles) -> tuple[list, np.ndarray]:
-    """The world outlines (k, 2) of every polygon body at these poses, and their body indices."""
-    bodies = np.flatnonzero(world.shapes != CIRCLE)
+    """The world outlines (k, 2) of every polygon and capsule body at these poses (a capsule's
+    sampled finely round its caps), and their body indices."""
+    bodies = np.flatnonzero(world.shapes != CIRCLE)   # the bodies of the vertex table
     outlines = np.split(world.placed_vertices(positions, angles), world.vertex_start[bodies[1:]])
+    for k in np.flatnonzero(world.shapes[bodies] == CAPSULE):
+        outlines[k] = capsule_outline(outlines[k][0], outlines[k][1], world.capsule_radii[bodies[k]])
     return outlines, bodies
 
 

@@ -308,7 +308,7 @@ def wall_manifolds(bodies, vertices, margin, dt, box, rest_speed, in_pair, found
             if polygon:
                 if gap > APART * reach:
                     continue
-                m = body_wall_manifold(polygons, vertices, start, i, box, wall, reach)
+                m = body_wall_manifold(polygons, shapes, radii, vertices, start, i, box, wall, reach)
                 if _reaches(m, reach):
                     k = _record(found, k, i, -1, wall, reach, 0.0, m)
                 continue
@@ -378,7 +378,7 @@ def segment_manifolds(bodies, vertices, margin, segments, found, k, polygons, as
         for s in range(segments.shape[0]):
             if _beyond(segments, s, x, y, reach):
                 continue
-            m = body_segment_manifold(polygons, vertices, start, i, segments, s, margin[i])
+            m = body_segment_manifold(polygons, shapes, radii, vertices, start, i, segments, s, margin[i])
             if _reaches(m, margin[i]):
                 k = _record(found, k, i, -1, N_WALLS + s, margin[i], 0.0, m)
     return k

@@ -14,7 +14,7 @@ import numpy as np
 import pymunk
 import pymunk.batch
 
-from ...core.kinds import POLYGON
+from ...core.kinds import CAPSULE, POLYGON
 from ...model.trajectory import Events
 
 _STATE_FIELDS = (pymunk.batch.BodyFields.POSITION | pymunk.batch.BodyFields.ANGLE
@@ -32,6 +32,10 @@ def add_body(space: pymunk.Space, world, i: int, moment: float, uniform: bool) -
     if world.shapes[i] == POLYGON:
         vertices = world.body_vertices[world.vertex_start[i]:world.vertex_start[i + 1]]
         shape = pymunk.Poly(body, [tuple(float(v) for v in vertex) for vertex in vertices], radius=0.0)
+    elif world.shapes[i] == CAPSULE:
+        a, b = world.body_vertices[world.vertex_start[i]:world.vertex_start[i] + 2]
+        shape = pymunk.Segment(body, tuple(float(v) for v in a), tuple(float(v) for v in b),
+                               float(world.capsule_radii[i]))
     else:
         shape = pymunk.Circle(body, float(world.radii[i]))
     if not uniform:   # each body follows its own acceleration, not the space's gravity

@@ -24,7 +24,7 @@ from __future__ import annotations
 import numpy as np
 import Box2D
 
-from ...core.kinds import POLYGON
+from ...core.kinds import CAPSULE, POLYGON
 
 
 class Box2DWorld:
@@ -35,6 +35,8 @@ class Box2DWorld:
                  position_iterations: int = 3):
         if not np.allclose(world.accelerations, world.gravity):
             raise ValueError("Box2D reference: per-body accelerations are not supported, only gravity")
+        if np.any(world.shapes == CAPSULE):
+            raise ValueError("Box2D reference: Box2D 2.3 has no capsule; compare a world with capsules against pymunk")
         self.dt = 1.0 / (fps * substeps)
         self.substeps, self.iterations = substeps, (velocity_iterations, position_iterations)
         self.b2 = Box2D.b2World(gravity=tuple(float(g) for g in world.gravity), doSleep=True)

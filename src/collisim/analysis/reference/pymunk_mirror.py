@@ -85,7 +85,7 @@ import numpy as np
 import pymunk
 import pymunk.batch
 
-from ...core.kinds import PAIR, POLYGON, SEGMENT, WALL
+from ...core.kinds import CAPSULE, PAIR, POLYGON, SEGMENT, WALL
 from ...model.trajectory import Events, Trajectory
 from .bodies import add_body, events_from_rows, read_state
 
@@ -218,7 +218,7 @@ def _per_shape(value: float) -> float:
 def _moments(world) -> np.ndarray:
     """Each body's moment: the World's, but infinite for a circle no friction can turn (see the
     module docstring)."""
-    spins = (world.shapes == POLYGON) | (world.friction > 0.0)
+    spins = (world.shapes == POLYGON) | (world.shapes == CAPSULE) | (world.friction > 0.0)
     return np.where(spins, world.inertias, math.inf)
 
 
