@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 
 import collisim
-from collisim.response.rows import SLOP, margins, new_found, new_rows, pair_manifolds, rows_from
+from collisim.response.pair_rows import pair_manifolds
+from collisim.response.rows import SLOP, margins, new_found, new_rows, rows_from
 from collisim.response.solver import POSITION_RATE, collide, solve_positions, solve_velocities
 
 DT = 1 / 60

@@ -38,8 +38,9 @@ from ..core.geometry.polygon import place_polygons
 from ..core.kinds import CIRCLE, MAP, N_WALLS, PAIR, SEGMENT, SUPPORT, WALL
 from .hierarchy import level_scratch, record_levels
 from ..response.hold import held_note
-from ..response.rows import (margin_of, margins, near_segments, new_found, new_rows, pair_manifolds, rows_from,
-                             segment_manifolds, wall_manifolds, was_impact)
+from ..response.pair_rows import pair_manifolds
+from ..response.rows import (margin_of, margins, near_segments, new_found, new_rows, rows_from, segment_manifolds,
+                             wall_manifolds, was_impact)
 from ..response.solver import collide, come_to_rest, solve_positions, solve_velocities
 from ..response.warmstart import no_memory, recall, remember
 from ..statics.segment_index import build_segment_index

@@ -29,7 +29,7 @@ A sleeping body
 
 It wakes, with its whole island, when an awake body comes within reach: when the two have a
 manifold point closer than the sum of their margins — exactly when the contact phase would give
-the pair a row (response/rows.py: pair_reaches). The island is then solved with the newcomer in
+the pair a row (response/pair_rows.py: pair_reaches). The island is then solved with the newcomer in
 the same step. Falling asleep takes out at most ½·m·v_rest² + ½·I·(v_rest / r)² of kinetic
 energy per body.
 
@@ -48,7 +48,7 @@ from ..core.compiling import kernel
 from ..core.geometry.vector import length
 from ..core.kinds import CIRCLE, SUPPORT
 from ..narrowphase.manifold import body_pair_touch
-from ..response.rows import pair_reaches
+from ..response.pair_rows import pair_reaches
 from ..response.warmstart import Memory, key_bodies
 from .eventlog import append, with_room
 from .rest import default_rest_speed
