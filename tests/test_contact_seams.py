@@ -78,12 +78,12 @@ def test_a_box_1000_times_heavier_sinks_less_than_a_fiftieth_into_a_light_box():
     assert (1.5 - t.positions[:, 1, 1]).max() <= 0.02   # of its size, 1, at every frame
 
 
-@pytest.mark.xfail(strict=True, reason="the hold from below holds normals only: friction at 1000:1 is left to the "
-                                       "sweeps, which cannot carry it, and the pair walks sideways (0.69 in 6 s; "
-                                       "before the hold, the heavy box slid off to the floor within 6 s)")
 def test_a_box_1000_times_heavier_stays_on_a_light_box():
+    # before: held along the normal alone, the pair walked sideways, 0.69 in 6 s (and without the
+    # hold the heavy box slid off to the floor within 6 s)
     t = settle(heavy_on_light_box(), seconds=6.0)
-    np.testing.assert_allclose(t.positions[-1], [[10.0, 0.5], [10.0, 1.5]], atol=0.02)
+    np.testing.assert_allclose(t.positions[:, :, 0], 10.0, atol=0.1)   # a tenth of its size, at every frame
+    assert (1.5 - t.positions[:, 1, 1]).max() <= 0.02
 
 
 def test_a_ball_1000_times_heavier_rests_on_a_column_of_five():

@@ -253,7 +253,7 @@ def solve_velocities(rows, count, lin, ang, accelerations, inverse_masses, inver
         return 0
     # late: still closing faster than half a step of its bodies' pull (hold.py)
     return hold_from_below(rows, np.arange(count), target, base, 0.5 * dt, 0.0, accelerations, inverse_masses,
-                           inverse_inertias, push_lin, push_ang, 0.5, impulses)
+                           inverse_inertias, push_lin, push_ang, 0.5, impulses, base_t, friction)
 
 
 @njit(cache=True)
@@ -300,7 +300,7 @@ def solve_positions(rows, count, lin, ang, accelerations, inverse_masses, invers
         return 0
     # a row held when less than half of its share of the overlap was taken out
     return hold_from_below(rows, over, goal, solved, 0.0, 0.5, accelerations, inverse_masses, inverse_inertias,
-                           shift_lin, shift_ang, 1.0, pseudo)
+                           shift_lin, shift_ang, 1.0, pseudo, solved, 0.0)   # positions: no friction
 
 
 @njit(cache=True)
