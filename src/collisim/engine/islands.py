@@ -6,7 +6,7 @@ turning moves its rim slower than that too, and neither has changed since it bec
 more than DRIFT of its rest speed. Slow is not enough: a box sliding down a slope its friction
 almost holds, a ball on a gentle slope or one starting to roll down it move slower than their
 rest speed for a second or more while gravity, which their contacts cannot cancel, keeps
-speeding them up; asleep they would never move again (0.012 of 0.75 a box slid in 4 s). A body
+speeding them up; asleep they would never move again. A body
 its contacts hold has its weight cancelled at every step, so its velocity stays where it was to
 within the solver's rounding (1e-7 of its rest speed over half a second, a box held by friction
 on a 30° slope): a velocity that keeps changing is a force the contacts do not hold, and the

@@ -33,7 +33,7 @@ from .eventlog import append, with_room
 # disc the solver held on a segment ends its step on it only within rounding, on either side;
 # looked up again only where it ended inside, a sliding disc missed its rows at every step that
 # ended a rounding error outside, fell into the segment and took the frictionless bounce, logged
-# as a collision (10 to 21 of 60 frames down a 20 or 30 degree slope).
+# as a collision, on as many as a third of the frames down a slope.
 HELD_BY_SEGMENT, HELD_BY_MAP, NEAR_SEGMENT = 2, 3, 4
 LOW_SIDE, HIGH_SIDE = np.int64(0), np.int64(1)   # a wall's side on its axis (numpy: one compile for both)
 

@@ -68,15 +68,15 @@ def hold_from_below(rows, rows_of, target, base, per_pull, per_target, accelerat
     impulse that brings the row to its target, and an impulse moves lin by `share` of it. A row
     that parts faster than its target while it pushes (accumulated (k,) its pass's impulses) gives
     back what parts it, down to no push at all: the sweeps, short of converging, leave the light
-    bodies under a heavy one bouncing (a column of five under a ball 1 000 times heavier rose
-    and fell at 0.3 units/s and sank 0.1 radii into itself), and held only where they closed,
+    bodies under a heavy one bouncing (a column of light balls under a heavy one rose and fell
+    and sank into itself), and held only where they closed,
     each body was lifted after the one below it. Nothing happens where nothing pulls. Returns the
     number of rows held (0: nothing was held).
 
     With friction (base_t (k,) the rows' tangential speeds before any impulse, as base is along
     the normal), each held row also stops its upper body sliding on the lower one, within
     friction times the row's push (its pass's and the hold's): held along the normal alone, a box
-    a thousand times heavier than the box under it walked sideways off it (0.69 in 6 s), its
+    a thousand times heavier than the box under it walked sideways off it, its
     friction left to the sweeps, which cannot carry that ratio either.
 
     The held impulses are not added to the rows' accumulated ones: those are what the next step's

@@ -140,7 +140,7 @@ def _may_meet(bodies, vertices, i, j, dt, gap, polygons, box, open_space):
     The sweep moves both bodies in straight lines, so it holds only where nothing else turns them
     within the step: a pair of which a body may reach a box wall in the step, or in a world with
     segments or a map (open_space False), keeps its rows as before. A ball bounced off the floor
-    in mid-step turned into the body the sweep had let it pass, and sank 0.65 of its radius into
+    in mid-step turned into the body the sweep had let it pass, and sank deep into
     it (particles_250)."""
     b = bodies
     if not open_space or _may_reach_wall(b, box, i, dt) or _may_reach_wall(b, box, j, dt):
