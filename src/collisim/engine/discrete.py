@@ -41,12 +41,13 @@ from ..response.hold import held_note
 from ..response.pair_rows import pair_manifolds
 from ..response.rows import (margin_of, margins, near_segments, new_found, new_rows, rows_from, segment_manifolds,
                              wall_manifolds, was_impact)
-from ..response.solver import collide, come_to_rest, solve_positions, solve_velocities
+from ..response.solver import add_contact_motion, collide, come_to_rest, solve_positions, solve_velocities
 from ..response.warmstart import no_memory, recall, remember
 from ..statics.segment_index import build_segment_index
 from .frames import constant_angles, new_frames
 from .eventlog import append, log_events, new_log, with_room
-from .fast_polygons import fast_note, fly_swept, keep_starts, mark_swept, new_fast, outpaced, segment_reach
+from .fast_polygons import (fast_note, fly_swept, keep_starts, mark_swept, new_fast, note_outpaced, outpaced,
+                            segment_reach)
 from .islands import new_sleep
 from .integrate import integrate
 from .profile import Profile, cycles
@@ -257,7 +258,7 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
             keep_start(s.map, scratch[2], b.positions)
             if outpaced(s.volumes, b, margin, dt, sleep.asleep):   # a pair faster than its rows can hold
                 out.approximate[frame] = True
-                _note_outpaced(work.fast.outpaced, frame)
+                note_outpaced(work.fast.outpaced, frame)
             v, w, m, inertia = b.velocities, b.angular_velocities, inverse_masses, inverse_inertias   # 1/m, 1/I
             if count > 0:
                 collide(rows, count, v, w, b.accelerations, m, inertia, s.restitution, s.friction, s.rest_speed, dt,
@@ -308,44 +309,6 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
         t = _lap(phase_cycles, RECORD, t)
     phase_cycles[TOTAL] += cycles() - start
     return log, memory, Contacts(found, rows, count, pairs)
-
-
-@njit(cache=True)
-def _note_outpaced(counts, frame):
-    """Count a step outpaced (fast_polygons.Fast.outpaced), keeping the frame of the first."""
-    if counts[0] == 0:
-        counts[1] = frame
-    counts[0] += 1
-
-
-@njit(cache=True)
-def add_contact_motion(bodies, rows, count, push, push_turn, shift, shift_turn, dt, moved):
-    """The solver's share of the step (response/solver.py): the contact impulses, spread over the
-    step, move a body by push·dt and change its velocity by 2·push (and turn it likewise); the
-    position correction moves it by shift·dt. In place, for the bodies of rows[:count] (the
-    solver sets push and shift (n, 2) and their turns (n,) for those alone), each once: moved
-    (n,) marks those done and is all False again on return. (The solver's passes over every
-    body, this one, the clearing of push and shift and the mean velocities, took 14 ms of a
-    200 ms step at a million bodies with a few thousand contacts.)"""
-    for r in range(count):
-        for i in (rows.i[r], rows.j[r]):
-            if i >= 0 and not moved[i]:
-                moved[i] = True
-                _move_by_contacts(bodies, i, push, push_turn, shift, shift_turn, dt)
-    for r in range(count):
-        moved[rows.i[r]] = False
-        if rows.j[r] >= 0:
-            moved[rows.j[r]] = False
-
-
-@njit(cache=True)
-def _move_by_contacts(bodies, i, push, push_turn, shift, shift_turn, dt):
-    b = bodies
-    for axis in range(2):
-        b.positions[i, axis] += (push[i, axis] + shift[i, axis]) * dt
-        b.velocities[i, axis] += 2.0 * push[i, axis]
-    b.angles[i] += (push_turn[i] + shift_turn[i]) * dt
-    b.angular_velocities[i] += 2.0 * push_turn[i]
 
 
 class DiscreteStepper:

@@ -386,3 +386,11 @@ def _segment_reach(polygons, bodies, dt, margin, segments, out):
             out[i] = margin[i] if b.shapes[i] == CIRCLE else max(margin[i], _reach(b, dt, i))
         return out
     return reach
+
+
+@njit(cache=True)
+def note_outpaced(counts, frame):
+    """Count a step outpaced (Fast.outpaced), keeping the frame of the first."""
+    if counts[0] == 0:
+        counts[1] = frame
+    counts[0] += 1

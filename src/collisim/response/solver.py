@@ -334,3 +334,33 @@ def come_to_rest(rows, count, lin, ang, inverse_masses, inverse_inertias, fricti
             store(lin, ang, i, j, v)
         if change <= TOLERANCE * scale:
             break
+
+
+@njit(cache=True)
+def add_contact_motion(bodies, rows, count, push, push_turn, shift, shift_turn, dt, moved):
+    """The solver's share of the step (response/solver.py): the contact impulses, spread over the
+    step, move a body by push·dt and change its velocity by 2·push (and turn it likewise); the
+    position correction moves it by shift·dt. In place, for the bodies of rows[:count] (the
+    solver sets push and shift (n, 2) and their turns (n,) for those alone), each once: moved
+    (n,) marks those done and is all False again on return. (The solver's passes over every
+    body, this one, the clearing of push and shift and the mean velocities, took 14 ms of a
+    200 ms step at a million bodies with a few thousand contacts.)"""
+    for r in range(count):
+        for i in (rows.i[r], rows.j[r]):
+            if i >= 0 and not moved[i]:
+                moved[i] = True
+                _move_by_contacts(bodies, i, push, push_turn, shift, shift_turn, dt)
+    for r in range(count):
+        moved[rows.i[r]] = False
+        if rows.j[r] >= 0:
+            moved[rows.j[r]] = False
+
+
+@njit(cache=True)
+def _move_by_contacts(bodies, i, push, push_turn, shift, shift_turn, dt):
+    b = bodies
+    for axis in range(2):
+        b.positions[i, axis] += (push[i, axis] + shift[i, axis]) * dt
+        b.velocities[i, axis] += 2.0 * push[i, axis]
+    b.angles[i] += (push_turn[i] + shift_turn[i]) * dt
+    b.angular_velocities[i] += 2.0 * push_turn[i]
