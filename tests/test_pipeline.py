@@ -72,7 +72,7 @@ def test_the_profile_accounts_for_the_steps_wall_time():
     stepper = DiscreteStepper(scene.world, scene.fps, 1, "grid")
     stepper.run(2)   # compile or load outside the measurement
     stepper.profile.seconds.clear()
-    shares = []
+    shares, others = [], []
     for _ in range(3):    # the best of three: a shared machine may pause the process
         stepper.profile.seconds.clear()
         start = time.perf_counter()
@@ -81,8 +81,9 @@ def test_the_profile_accounts_for_the_steps_wall_time():
         phases = stepper.profile.seconds
         assert set(PHASES) <= set(phases)
         shares.append(sum(phases.values()) / wall)
-        assert phases["other"] < 0.1 * sum(phases.values())   # the phases cover the compiled loop
+        others.append(phases["other"] / sum(phases.values()))
     assert max(shares) == pytest.approx(1.0, abs=0.1)
+    assert min(others) < 0.1   # the phases cover the compiled loop
 
 
 def test_every_shape_pair_of_the_table_is_dispatched():
