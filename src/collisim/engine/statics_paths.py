@@ -19,7 +19,7 @@ from ..core.compiling import kernel
 from ..core.geometry.box import centre_range
 from ..core.kinds import CIRCLE, MAP, N_WALLS, SEGMENT, WALL
 from ..narrowphase.statics import circle_segment, segment_contacts
-from ..response.map import bounce_off_map, push_out
+from ..response.map import bounce_off_map, glide_past_map, push_out
 from ..response.rows import MARGIN, circle_map_manifold, circle_segment_manifolds
 from ..response.statics import bounce_between_walls, bounce_off_segment, put_on_segment
 from ..statics.map_field import has_map
@@ -83,10 +83,12 @@ def _open_space(statics):
 
 
 def map_phase(bodies, statics, start, held, dt, log, now, frame_collisions):
-    """Every body's move this step of dt (from start (n, 2)) against the collision map (compiled
-    code only); bounces are counted with the segments' (frame_collisions[SEGMENT]) and logged as
-    MAP events. A body the contact solver held against the map (held (n, 4), HELD_BY_MAP) is
-    only pushed back out of it, not bounced. Returns the log."""
+    """Every body's move this step of dt (from start (n, 2)) against the collision map and the
+    box walls together (compiled code only; response/map.py): bounces off the map are counted
+    with the segments' (frame_collisions[SEGMENT]) and logged as MAP events, those off the walls
+    as WALL events; a body resting or sliding on the map is not bounced. A body the contact
+    solver held against the map (held (n, 5), HELD_BY_MAP) slides on it, its move still marched
+    (glide_past_map), so that no step ends beyond a painted wall. Returns the log."""
     raise NotImplementedError("map_phase is called from compiled code")
 
 
@@ -195,16 +197,26 @@ def _map_phase(bodies, statics, start, held, dt, log, now, frame_collisions):
         b = bodies
         if not has_map(statics.map):
             return log
-        log = with_room(log, b.positions.shape[0])
+        s = statics
+        walls = np.zeros(N_WALLS)   # each wall side's first impulse off body i
         for i in range(b.positions.shape[0]):
-            if held[i, HELD_BY_MAP]:
-                push_out(statics.map, b.positions, b.radii[i], i)
-                continue   # held there by the solver: rounding into the map is not a bounce
-            impulse, x, y, bounces = bounce_off_map(statics.map, start, b.positions, b.velocities, b.accelerations,
-                                                    b.radii, b.masses, statics.restitution, dt, i)
+            log = with_room(log, 1 + N_WALLS)
+            walls[:] = 0.0
+            if held[i, HELD_BY_MAP]:   # held there by the solver: rounding into the map is not a bounce
+                impulse, x, y, bounces, wall_bounces = glide_past_map(
+                    s.map, s.box, held, start, b.positions, b.velocities, b.accelerations, b.radii, b.masses,
+                    s.restitution, s.rest_speed, dt, i, walls)
+            else:
+                impulse, x, y, bounces, wall_bounces = bounce_off_map(
+                    s.map, s.box, held, start, b.positions, b.velocities, b.accelerations, b.radii, b.masses,
+                    s.restitution, s.rest_speed, dt, i, walls)
             if bounces > 0:
                 append(log, now, MAP, i, -1, impulse, x, y)
                 frame_collisions[SEGMENT] += bounces
+            for side in range(N_WALLS):
+                if walls[side] > 0.0:
+                    _log_wall(log, now, b.positions, s.box, i, side // 2, np.int64(side % 2), walls[side])
+            frame_collisions[WALL] += wall_bounces
         return log
     return bounce_off
 
