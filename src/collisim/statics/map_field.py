@@ -25,6 +25,7 @@ import numpy as np
 from numba import njit
 
 DEPTH_SLACK = 0.5   # pixels: how far a contact's depth may read from the field at its centre (map_contact)
+CORNER_COS = math.cos(math.radians(45.0))   # end normals further apart than this: a corner (map_contact)
 DEPTH_TAPS = 8      # samples each side of the centre averaged along the outline for a contact's depth
 
 MapField = namedtuple("MapField", ["x0", "y0", "cell", "nx", "ny", "distance"])
@@ -138,6 +139,10 @@ def map_contact(field, x, y, radius):
     if not length > h:   # a slope under 1/2 (true distance has 1): a ridge, or NaN
         return d, fx, fy
     nx, ny = gx / length, gy / length
+    _, ax, ay = map_sample(field, x - h * ny, y + h * nx)   # the field's own normals a radius either
+    _, bx, by = map_sample(field, x + h * ny, y - h * nx)   # side along the outline
+    if ax * bx + ay * by < CORNER_COS:   # two surfaces meet under the body: a corner, read exactly
+        return d, fx, fy
     taps = min(int(math.ceil(h / field.cell)), DEPTH_TAPS)   # each side: a pixel apart, at most DEPTH_TAPS
     total = d
     for k in range(1, taps + 1):
