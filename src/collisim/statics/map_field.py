@@ -130,7 +130,12 @@ def map_contact(field, x, y, radius):
       body's width, kept within DEPTH_SLACK pixels of the field's value at the centre. A straight
       outline reads exactly (the average of a linear field is its value); a staircase reads as
       the slope it draws; a sharp corner, whose distance the average overstates, lets a body in
-      by at most DEPTH_SLACK pixels. Both settle as the map gets finer than the body."""
+      by at most DEPTH_SLACK pixels. Both settle as the map gets finer than the body;
+    * except in a corner: where the field's own normals a radius either side along the outline
+      differ by more than 45 degrees, two surfaces meet under the body (the bottom of a V, a
+      room's corner) and their average would be neither; the contact is read at the centre, as
+      map_sample reads it, its normal that of the nearer surface. A staircase's normals swing by
+      less (tests/test_map_seams.py)."""
     d, fx, fy = map_sample(field, x, y)
     h = max(radius, 0.5 * field.cell)
     gx = map_sample(field, x + h, y)[0] - map_sample(field, x - h, y)[0]
