@@ -226,7 +226,7 @@ def segment_manifolds(bodies, vertices, margin, segments, found, k, polygons, as
             continue
         x, y, reach = positions[i, 0], positions[i, 1], radii[i] + margin[i]
         for s in range(segments.shape[0]):
-            if _beyond(segments, s, x, y, reach):
+            if beyond_segment(segments, s, x, y, reach):
                 continue
             m = body_segment_manifold(polygons, shapes, radii, vertices, start, i, segments, s, margin[i])
             if reaches(m, margin[i]):
@@ -290,7 +290,7 @@ def rows_from(found, k, bodies, rows):
 
 
 @njit(cache=True)
-def _beyond(segments, k, x, y, reach):
+def beyond_segment(segments, k, x, y, reach):
     """Is segment k farther than reach from (x, y)? (Its box, grown by reach, misses the point.)"""
     x0, y0, x1, y1 = segments[k, 0], segments[k, 1], segments[k, 2], segments[k, 3]
     return (x < min(x0, x1) - reach or x > max(x0, x1) + reach or y < min(y0, y1) - reach
@@ -307,5 +307,5 @@ def near_segments(bodies, margin, segments):
     for i in range(b.positions.shape[0]):
         if b.shapes[i] != CIRCLE:
             for k in range(segments.shape[0]):
-                near += not _beyond(segments, k, b.positions[i, 0], b.positions[i, 1], b.radii[i] + margin[i])
+                near += not beyond_segment(segments, k, b.positions[i, 0], b.positions[i, 1], b.radii[i] + margin[i])
     return near
