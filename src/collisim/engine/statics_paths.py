@@ -156,8 +156,8 @@ def _segment_phase(bodies, statics, scratch, log, now, frame_collisions):
                 continue   # held there by the solver: rounding into the segment is not a bounce
             if circle_segment(b.positions, b.radii, i, s.segments, k)[2] < 0.0:
                 continue   # near, not touching: nothing to bounce
-            impulse, x, y = bounce_off_segment(b.positions, b.velocities, b.radii, b.masses, s.segments, i, k,
-                                               s.restitution)
+            impulse, x, y = bounce_off_segment(b.positions, b.velocities, b.accelerations, b.radii, b.masses,
+                                               s.segments, i, k, s.restitution)
             if impulse > 0.0:
                 append(log, now, SEGMENT, i, k, impulse, x, y)
                 frame_collisions[SEGMENT] += 1

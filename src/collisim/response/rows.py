@@ -45,7 +45,7 @@ from ..core.geometry.vector import length
 from ..core.kinds import CIRCLE, N_WALLS
 from ..narrowphase.manifold import body_segment_manifold, body_wall_manifold
 from ..narrowphase.statics import circle_segment
-from ..statics.map_field import map_contact
+from ..statics.map_field import map_contact, map_sample
 
 SLOP = 0.005   # of the smaller radius: an overlap the solver tolerates between bodies (solver.py)
 MARGIN = 0.01  # of the radius: every body's smallest speculative margin (a resting pile that falls
@@ -190,8 +190,14 @@ def circle_map_manifold(bodies, margin, field, static, i, rest_speed, in_pair, f
     """Record as found[k] the manifold of circle i with the collision map (field) if it holds it
     (_held_by_static): its gap is the map's distance at the centre less the radius, its normal
     the map's; j = -1, wall = `static` (the map's number: N_WALLS + the number of segments).
-    Returns the new record count (the caller makes the room)."""
-    d, nx, ny = map_contact(field, bodies.positions[i, 0], bodies.positions[i, 1], bodies.radii[i])   # out of the map
+    Returns the new record count (the caller makes the room). A body meeting the map no faster
+    than the rest speed (resting, sliding or rolling on it) reads it across its width
+    (map_contact: a staircase as the slope it draws); an impact, in a pile, reads it at the
+    centre, whose normal points at the solid it hits, a sharp point included."""
+    x, y, v = bodies.positions[i, 0], bodies.positions[i, 1], bodies.velocities
+    d, nx, ny = map_contact(field, x, y, bodies.radii[i])   # out of the map
+    if -(v[i, 0] * nx + v[i, 1] * ny) > rest_speed:
+        d, nx, ny = map_sample(field, x, y)
     if nx == 0.0 and ny == 0.0:
         return k   # no normal (deep in the solid, or on a ridge): the map's push-out takes it
     return _held_by_static(bodies, margin, i, nx, ny, d - bodies.radii[i], static, rest_speed, in_pair, found, k)
