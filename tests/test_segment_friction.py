@@ -94,9 +94,9 @@ def test_a_disc_landing_on_a_segment_slope_logs_the_landing_alone():
 
 def test_a_disc_dropped_on_a_segment_bounces_with_its_restitution():
     """From h = 2 above a segment floor at e = 0.8: one collision, and the rebound speed, read
-    from the height it climbs to before it lands again, is e times the impact speed. (Within a
-    few %: the segment bounce reflects the velocity of the step's end, which has fallen up to a
-    step's travel past the contact and is that much faster; the walls' bounce is exact.)"""
+    from the height it climbs to before it lands again, is e times the impact speed, as off the
+    box floor (reflecting the step's end velocity, which had fallen up to a step's travel past
+    the contact, it came back 1.8 % fast)."""
     e, h, floor = 0.8, 2.0, 1.0
     world = World([(5.0, floor + R + h)], radii=R, segments=[[0.0, floor, 10.0, floor]], box=(0, 0, 10, 10),
                   gravity=(0, -G), restitution=e, friction=0.5)
@@ -107,4 +107,4 @@ def test_a_disc_dropped_on_a_segment_bounces_with_its_restitution():
     assert int(np.sum(trajectory.events.kind == SEGMENT)) == 1
     after = trajectory.times > landing
     apex = trajectory.positions[after, 0, 1].max() - floor - R
-    assert np.sqrt(2 * G * apex) == pytest.approx(e * np.sqrt(2 * G * h), rel=0.03)
+    assert np.sqrt(2 * G * apex) == pytest.approx(e * np.sqrt(2 * G * h), rel=0.002)   # the frames' sampling of the apex

@@ -32,7 +32,7 @@ def rows_of(positions, velocities, masses, radii):
     rows = new_rows(2)
     found = new_found(1)
     k = pair_manifolds(bodies, np.zeros((0, 2)), margin, DT, np.array([[0, 1]]), found, 0, np.zeros(2, np.bool_),
-                       np.zeros(1, np.bool_), None, np.zeros(2, np.bool_), np.array([-1e3, -1e3, 1e3, 1e3]), True)
+                       np.zeros(1, np.bool_), None, np.zeros(2, np.bool_), np.zeros(2, np.bool_))
     count = rows_from(found, k, bodies, rows)
     return rows, count, bodies
 

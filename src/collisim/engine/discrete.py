@@ -52,7 +52,7 @@ from .islands import new_sleep
 from .integrate import integrate
 from .profile import Profile, cycles
 from .sleep_paths import carry, doze, keep_touching, remember_sleepers, still, wake
-from .statics_paths import (circle_map_rows, circle_segment_rows, keep_start, map_number, mark_held, open_space,
+from .statics_paths import (circle_map_rows, circle_segment_rows, keep_start, map_number, mark_held, may_turn,
                             settle_in_map, static_kind, statics_phase, statics_scratch)
 
 # numpy integers: _lap(cycles, BROAD, t) compiles once, not once per phase (core/kinds.py says why)
@@ -178,8 +178,9 @@ def _contact_phases(bodies, statics, broad, sleep, dt, margin, lo, hi, vertices,
     if found.shape[0] < most:
         found = new_found(most + most // 2)
     in_pair, touching = np.zeros(n, np.bool_), np.empty(pairs.shape[0], np.bool_)
+    turns = may_turn(b, statics, dt, np.empty(n, np.bool_))
     k = pair_manifolds(b, vertices, margin, dt, pairs, found, 0, in_pair, touching, statics.volumes,
-                       sleep.asleep, statics.box, open_space(statics))
+                       sleep.asleep, turns)
     if sleep.sleeping[0] > 0:
         keep_touching(sleep, b, vertices, pairs, touching, prior[0], prior[1], statics.volumes)
     no_wall_rows = mark_swept(statics.volumes, b, dt, in_pair, statics.restitution, statics.segments, sleep.asleep,

@@ -17,12 +17,13 @@ from numba.extending import overload
 from ..core.arrays import copy_rows, grown
 from ..core.compiling import kernel
 from ..core.geometry.box import centre_range
+from ..core.geometry.vector import length
 from ..core.kinds import CIRCLE, MAP, N_WALLS, SEGMENT, WALL
 from ..narrowphase.statics import circle_segment, segment_contacts
-from ..response.map import bounce_off_map, push_out
-from ..response.rows import MARGIN, circle_map_manifold, circle_segment_manifolds
+from ..response.map import bounce_off_map, glide_past_map, push_out
+from ..response.rows import MARGIN, beyond_segment, circle_map_manifold, circle_segment_manifolds
 from ..response.statics import bounce_between_walls, bounce_off_segment, put_on_segment
-from ..statics.map_field import has_map
+from ..statics.map_field import has_map, map_sample
 from ..statics.segment_index import segments_near
 from .eventlog import append, with_room
 
@@ -69,24 +70,58 @@ def circle_map_rows(bodies, statics, margin, in_pair, found, k, asleep):
     raise NotImplementedError("circle_map_rows is called from compiled code")
 
 
-def open_space(statics):
-    """Has the world neither segments nor a collision map (compiled code only)? Only the box
-    walls then turn a body within a step (response/rows.py: _may_meet)."""
-    raise NotImplementedError("open_space is called from compiled code")
+def may_turn(bodies, statics, dt, turns):
+    """Which bodies a static may turn within the step of dt: turns (n,) bool, True where a body's
+    bounding circle, moved as far as it can go in the step, reaches a box wall, a segment or the
+    map (compiled code only). Only those can meet, in mid-step, a body the near-miss sweep let
+    pass on a straight line (response/pair_rows.py: _may_meet). Returns turns."""
+    raise NotImplementedError("may_turn is called from compiled code")
 
 
-@overload(open_space)
-def _open_space(statics):
+@overload(may_turn)
+def _may_turn(bodies, statics, dt, turns):
     if _lacks(statics, "map"):
-        return lambda statics: statics.segments.shape[0] == 0
-    return lambda statics: statics.segments.shape[0] == 0 and not has_map(statics.map)
+        return lambda bodies, statics, dt, turns: _reaches_box_or_segment(bodies, statics.box, statics.segments, dt,
+                                                                          turns)
+
+    def reach_statics(bodies, statics, dt, turns):
+        _reaches_box_or_segment(bodies, statics.box, statics.segments, dt, turns)
+        if has_map(statics.map):
+            for i in range(turns.shape[0]):
+                if not turns[i]:
+                    turns[i] = map_sample(statics.map, bodies.positions[i, 0], bodies.positions[i, 1])[0] <= \
+                        _travel(bodies, dt, i) + statics.map.cell
+        return turns
+    return reach_statics
+
+
+@kernel
+def _travel(bodies, dt, i):
+    """How far from its centre body i's bounding circle can reach within the step."""
+    v, a = bodies.velocities, bodies.accelerations
+    return bodies.radii[i] + (length(v[i, 0], v[i, 1]) + 0.5 * length(a[i, 0], a[i, 1]) * dt) * dt
+
+
+@njit(cache=True)
+def _reaches_box_or_segment(bodies, box, segments, dt, turns):
+    for i in range(turns.shape[0]):
+        reach = _travel(bodies, dt, i)
+        x, y = bodies.positions[i, 0], bodies.positions[i, 1]
+        turns[i] = x - reach <= box[0] or y - reach <= box[1] or x + reach >= box[2] or y + reach >= box[3]
+        k = 0
+        while not turns[i] and k < segments.shape[0]:
+            turns[i] = not beyond_segment(segments, k, x, y, reach)
+            k += 1
+    return turns
 
 
 def map_phase(bodies, statics, start, held, dt, log, now, frame_collisions):
-    """Every body's move this step of dt (from start (n, 2)) against the collision map (compiled
-    code only); bounces are counted with the segments' (frame_collisions[SEGMENT]) and logged as
-    MAP events. A body the contact solver held against the map (held (n, 4), HELD_BY_MAP) is
-    only pushed back out of it, not bounced. Returns the log."""
+    """Every body's move this step of dt (from start (n, 2)) against the collision map and the
+    box walls together (compiled code only; response/map.py): bounces off the map are counted
+    with the segments' (frame_collisions[SEGMENT]) and logged as MAP events, those off the walls
+    as WALL events; a body resting or sliding on the map is not bounced. A body the contact
+    solver held against the map (held (n, 5), HELD_BY_MAP) slides on it, its move still marched
+    (glide_past_map), so that no step ends beyond a painted wall. Returns the log."""
     raise NotImplementedError("map_phase is called from compiled code")
 
 
@@ -121,8 +156,8 @@ def _segment_phase(bodies, statics, scratch, log, now, frame_collisions):
                 continue   # held there by the solver: rounding into the segment is not a bounce
             if circle_segment(b.positions, b.radii, i, s.segments, k)[2] < 0.0:
                 continue   # near, not touching: nothing to bounce
-            impulse, x, y = bounce_off_segment(b.positions, b.velocities, b.radii, b.masses, s.segments, i, k,
-                                               s.restitution)
+            impulse, x, y = bounce_off_segment(b.positions, b.velocities, b.accelerations, b.radii, b.masses,
+                                               s.segments, i, k, s.restitution)
             if impulse > 0.0:
                 append(log, now, SEGMENT, i, k, impulse, x, y)
                 frame_collisions[SEGMENT] += 1
@@ -195,16 +230,26 @@ def _map_phase(bodies, statics, start, held, dt, log, now, frame_collisions):
         b = bodies
         if not has_map(statics.map):
             return log
-        log = with_room(log, b.positions.shape[0])
+        s = statics
+        walls = np.zeros(N_WALLS)   # each wall side's first impulse off body i
         for i in range(b.positions.shape[0]):
-            if held[i, HELD_BY_MAP]:
-                push_out(statics.map, b.positions, b.radii[i], i)
-                continue   # held there by the solver: rounding into the map is not a bounce
-            impulse, x, y, bounces = bounce_off_map(statics.map, start, b.positions, b.velocities, b.accelerations,
-                                                    b.radii, b.masses, statics.restitution, dt, i)
+            log = with_room(log, 1 + N_WALLS)
+            walls[:] = 0.0
+            if held[i, HELD_BY_MAP]:   # held there by the solver: rounding into the map is not a bounce
+                impulse, x, y, bounces, wall_bounces = glide_past_map(
+                    s.map, s.box, held, start, b.positions, b.velocities, b.accelerations, b.radii, b.masses,
+                    s.restitution, s.rest_speed, dt, i, walls)
+            else:
+                impulse, x, y, bounces, wall_bounces = bounce_off_map(
+                    s.map, s.box, held, start, b.positions, b.velocities, b.accelerations, b.radii, b.masses,
+                    s.restitution, s.rest_speed, dt, i, walls)
             if bounces > 0:
                 append(log, now, MAP, i, -1, impulse, x, y)
                 frame_collisions[SEGMENT] += bounces
+            for side in range(N_WALLS):
+                if walls[side] > 0.0:
+                    _log_wall(log, now, b.positions, s.box, i, side // 2, np.int64(side % 2), walls[side])
+            frame_collisions[WALL] += wall_bounces
         return log
     return bounce_off
 

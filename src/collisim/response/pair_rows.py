@@ -4,8 +4,8 @@ state at the start of the step, and the near misses a sweep lets pass.
 
 A speculative pair (still apart) gives rows only if the bodies' motion in the step can bring
 their shapes together at all (_may_meet); where the sweep's straight lines may not hold (a body
-that can reach a box wall in the step, a world with segments or a map, a body another pair's
-rows may turn) the pair keeps its rows.
+that can reach a box wall, a segment or the map in the step, a body another pair's rows may
+turn) the pair keeps its rows.
 """
 import numpy as np
 from numba import njit
@@ -57,8 +57,7 @@ def pair_reaches(bodies, vertices, margin, i, j, polygons):
 
 
 @njit(cache=True)
-def pair_manifolds(bodies, vertices, margin, dt, pairs, found, k, in_pair, touching, polygons, asleep, box,
-                   open_space):
+def pair_manifolds(bodies, vertices, margin, dt, pairs, found, k, in_pair, touching, polygons, asleep, turns):
     """Record after found[:k] the manifolds of pairs (p, 2) (canonical order, i < j) with a point
     closer than the sum of their margins; in_pair (n,) marks their bodies, and touching (p,)
     says of each pair whether its shapes touch now (the exact level of the bounding-volume
@@ -66,8 +65,8 @@ def pair_manifolds(bodies, vertices, margin, dt, pairs, found, k, in_pair, touch
     circles_touch, a polygon by its manifold's depth >= 0). Returns the new record count.
     polygons: True, or None for a world of circles,
     which then compiles no polygon path (manifold.body_pair_manifold). asleep (n,) bool: a pair
-    of sleepers (engine/islands.py) has no manifold (its touching is left False). box, open_space:
-    for _may_meet (open_space: the world has no segments and no map)."""
+    of sleepers (engine/islands.py) has no manifold (its touching is left False). turns (n,) bool:
+    which bodies a static may turn within the step (engine/statics_paths.may_turn), for _may_meet."""
     shapes, positions, radii = bodies.shapes, bodies.positions, bodies.radii
     passing, count = np.empty(pairs.shape[0], np.int64), 0   # speculative pairs the sweep lets pass
     for c in range(pairs.shape[0]):
@@ -83,7 +82,7 @@ def pair_manifolds(bodies, vertices, margin, dt, pairs, found, k, in_pair, touch
         touching[c] = circles_touch(positions, radii, i, j) if circles else m[2] > 0 and m[3] >= 0.0
         if not reaches(m, reach):
             continue
-        if m[3] >= 0.0 or _may_meet(bodies, vertices, i, j, dt, -m[3], polygons, box, open_space):
+        if m[3] >= 0.0 or _may_meet(bodies, vertices, i, j, dt, -m[3], polygons, turns):
             k = record_manifold(found, k, i, j, -1, reach, SLOP * min(radii[i], radii[j]), m)
             in_pair[i] = in_pair[j] = True
         else:
@@ -126,7 +125,7 @@ def _held_after_all(bodies, vertices, margin, dt, pairs, passing, count, found, 
 
 
 @njit(cache=True)
-def _may_meet(bodies, vertices, i, j, dt, gap, polygons, box, open_space):
+def _may_meet(bodies, vertices, i, j, dt, gap, polygons, turns):
     """Can bodies i and j, `gap` apart where the step starts, meet within it? A speculative
     pair that cannot gets no rows: its normal joins the closest features where the step starts,
     and along it a corner sliding past a corner (a ball past a box's corner 0.03 above it at 17
@@ -138,12 +137,11 @@ def _may_meet(bodies, vertices, i, j, dt, gap, polygons, box, open_space):
     the one on it does not: a resting pile's gaps close by that much; narrowphase/sweep.py).
 
     The sweep moves both bodies in straight lines, so it holds only where nothing else turns them
-    within the step: a pair of which a body may reach a box wall in the step, or in a world with
-    segments or a map (open_space False), keeps its rows as before. A ball bounced off the floor
-    in mid-step turned into the body the sweep had let it pass, and sank deep into
-    it (particles_250)."""
+    within the step: a pair of which a body may reach a box wall, a segment or the map in the
+    step (turns) keeps its rows as before. A ball bounced off the floor in mid-step turned into
+    the body the sweep had let it pass, and sank deep into it (particles_250)."""
     b = bodies
-    if not open_space or _may_reach_wall(b, box, i, dt) or _may_reach_wall(b, box, j, dt):
+    if turns[i] or turns[j]:
         return True
     w, a, r = b.angular_velocities, b.accelerations, b.radii
     spin = (abs(w[i]) * r[i] if b.shapes[i] != CIRCLE else 0.0) + (abs(w[j]) * r[j] if b.shapes[j] != CIRCLE else 0.0)
@@ -156,12 +154,3 @@ def _may_meet(bodies, vertices, i, j, dt, gap, polygons, box, open_space):
     dy = (b.velocities[j, 1] + half * a[j, 1] - b.velocities[i, 1] - half * a[i, 1]) * dt
     return body_pair_swept_gap(polygons, b.shapes, b.positions, b.radii, vertices, b.vertex_start, i, j, dx,
                                dy) <= slack
-
-
-@kernel
-def _may_reach_wall(bodies, box, i, dt):
-    """Can body i reach a box wall within the step (its bounding circle, moved as far as it can go)?"""
-    v, a = bodies.velocities, bodies.accelerations
-    reach = bodies.radii[i] + (length(v[i, 0], v[i, 1]) + 0.5 * length(a[i, 0], a[i, 1]) * dt) * dt
-    x, y = bodies.positions[i, 0], bodies.positions[i, 1]
-    return x - reach <= box[0] or y - reach <= box[1] or x + reach >= box[2] or y + reach >= box[3]

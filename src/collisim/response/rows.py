@@ -45,7 +45,7 @@ from ..core.geometry.vector import length
 from ..core.kinds import CIRCLE, N_WALLS
 from ..narrowphase.manifold import body_segment_manifold, body_wall_manifold
 from ..narrowphase.statics import circle_segment
-from ..statics.map_field import map_sample
+from ..statics.map_field import map_contact, map_sample
 
 SLOP = 0.005   # of the smaller radius: an overlap the solver tolerates between bodies (solver.py)
 MARGIN = 0.01  # of the radius: every body's smallest speculative margin (a resting pile that falls
@@ -190,8 +190,14 @@ def circle_map_manifold(bodies, margin, field, static, i, rest_speed, in_pair, f
     """Record as found[k] the manifold of circle i with the collision map (field) if it holds it
     (_held_by_static): its gap is the map's distance at the centre less the radius, its normal
     the map's; j = -1, wall = `static` (the map's number: N_WALLS + the number of segments).
-    Returns the new record count (the caller makes the room)."""
-    d, nx, ny = map_sample(field, bodies.positions[i, 0], bodies.positions[i, 1])   # normal: out of the map
+    Returns the new record count (the caller makes the room). A body meeting the map no faster
+    than the rest speed (resting, sliding or rolling on it) reads it across its width
+    (map_contact: a staircase as the slope it draws); an impact, in a pile, reads it at the
+    centre, whose normal points at the solid it hits, a sharp point included."""
+    x, y, v = bodies.positions[i, 0], bodies.positions[i, 1], bodies.velocities
+    d, nx, ny = map_contact(field, x, y, bodies.radii[i])   # out of the map
+    if -(v[i, 0] * nx + v[i, 1] * ny) > rest_speed:
+        d, nx, ny = map_sample(field, x, y)
     if nx == 0.0 and ny == 0.0:
         return k   # no normal (deep in the solid, or on a ridge): the map's push-out takes it
     return _held_by_static(bodies, margin, i, nx, ny, d - bodies.radii[i], static, rest_speed, in_pair, found, k)
@@ -226,7 +232,7 @@ def segment_manifolds(bodies, vertices, margin, segments, found, k, polygons, as
             continue
         x, y, reach = positions[i, 0], positions[i, 1], radii[i] + margin[i]
         for s in range(segments.shape[0]):
-            if _beyond(segments, s, x, y, reach):
+            if beyond_segment(segments, s, x, y, reach):
                 continue
             m = body_segment_manifold(polygons, shapes, radii, vertices, start, i, segments, s, margin[i])
             if reaches(m, margin[i]):
@@ -290,7 +296,7 @@ def rows_from(found, k, bodies, rows):
 
 
 @njit(cache=True)
-def _beyond(segments, k, x, y, reach):
+def beyond_segment(segments, k, x, y, reach):
     """Is segment k farther than reach from (x, y)? (Its box, grown by reach, misses the point.)"""
     x0, y0, x1, y1 = segments[k, 0], segments[k, 1], segments[k, 2], segments[k, 3]
     return (x < min(x0, x1) - reach or x > max(x0, x1) + reach or y < min(y0, y1) - reach
@@ -307,5 +313,5 @@ def near_segments(bodies, margin, segments):
     for i in range(b.positions.shape[0]):
         if b.shapes[i] != CIRCLE:
             for k in range(segments.shape[0]):
-                near += not _beyond(segments, k, b.positions[i, 0], b.positions[i, 1], b.radii[i] + margin[i])
+                near += not beyond_segment(segments, k, b.positions[i, 0], b.positions[i, 1], b.radii[i] + margin[i])
     return near

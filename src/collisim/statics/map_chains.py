@@ -7,14 +7,16 @@ boundary pixels. Each contour is then
 1. given back the corner pixels the 8-connected trace cuts off at concave corners (a horizontal
    run, one diagonal step, a vertical run), so a room's corner stays square;
 2. simplified (cv2.approxPolyDP, epsilon = `simplify` pixels): straight runs become single
-   edges, staircases become slanted edges;
+   edges; then each staircase (a stretch running one way in x and in y) again, to STAIRS
+   pixels, so a painted slope becomes one slanted edge;
 3. moved outward, toward free space, by half a pixel, from the pixel centres onto the pixel
    edges: each vertex moves along the bisector of its two edge normals by 0.5 / cos(half the
    turn) pixels (the miter, clamped to one pixel at sharp concave turns). A convex turn sharper
    than a right angle, such as the end of a one-pixel line, gets a square cap of two vertices.
 
 Axis-aligned runs therefore lie exactly on the pixel edges; elsewhere a chain is within
-`simplify` + 1/2 pixel of the union of solid pixel squares.
+`simplify` + 1/2 pixel of the union of solid pixel squares, and where a staircase was made
+straight (step 2's second pass, _straighten_staircases) within STAIRS + 1/sqrt(2).
 
 The mask is padded with one free pixel all round before tracing: beyond the image counts as
 free, so a solid region touching the image border is closed along the border.
@@ -30,6 +32,10 @@ import numpy as np
 # (tests/test_collision_map.py checks that the two agree); a contour of zero area, a line one
 # pixel wide, has only this to go by.
 FREE_SIDE_OF_OPENCV_TRACE = -1
+# Pixels: how far a staircase's straightened edges may stray from its pixel centres. A digital
+# straight line's centres lie in a strip up to a pixel wide, so less leaves a gentle slope a
+# run of kinks that ccd meets as impacts (tests/test_map_seams.py).
+STAIRS = 1.0
 
 
 def trace_chains(solid: np.ndarray, simplify: float) -> list:
@@ -42,9 +48,51 @@ def trace_chains(solid: np.ndarray, simplify: float) -> list:
         points = contour[:, 0, :].astype(np.int64)
         side = free_side(points, hole=links[3] >= 0)
         points = _restore_concave_corners(points, padded, side)
-        corners = cv2.approxPolyDP(points.astype(np.int32).reshape(-1, 1, 2), float(simplify), True)
-        chains.append(_onto_pixel_edges(corners[:, 0, :].astype(np.float64), side) - 1.0)  # unpad
+        corners = cv2.approxPolyDP(points.astype(np.int32).reshape(-1, 1, 2), float(simplify), True)[:, 0, :]
+        chains.append(_onto_pixel_edges(_straighten_staircases(corners).astype(np.float64), side) - 1.0)  # unpad
     return chains
+
+
+def _straighten_staircases(corners: np.ndarray) -> np.ndarray:
+    """The closed polygon corners (p, 2) int with its staircases made straight: each stretch
+    along which x and y both run one way (a monotone stretch; its ends, where either turns back,
+    are kept, as is every corner joining two axis-aligned edges, pixel art's square corners)
+    simplified again to within STAIRS pixels (cv2.approxPolyDP, open), so a slanted or curved
+    edge painted as pixel steps becomes slanted edges. Each new edge joins two corners of the stretch, so
+    it stays within the strip of pixel centres its stretch lies in: the two sides of a thin
+    wall, each monotone, do not cross."""
+    p = len(corners)
+    if p < 4:
+        return corners
+    step = np.sign(np.roll(corners, -1, axis=0) - corners)   # step k: corner k -> k + 1
+    square = _axis_aligned(step) & _axis_aligned(np.roll(step, 1, axis=0))   # pixel art's corners
+    ends = np.union1d(_turning_back(step), np.flatnonzero(square))
+    if len(ends) == 0:
+        return corners
+    kept = []
+    for a, b in zip(ends, np.roll(ends, -1)):
+        stretch = np.take(corners, np.arange(a, b + (p if b <= a else 0) + 1), axis=0, mode="wrap")
+        straight = cv2.approxPolyDP(stretch.astype(np.int32).reshape(-1, 1, 2), STAIRS, False)[:, 0, :]
+        kept.append(straight[:-1])   # its last corner starts the next stretch
+    return np.concatenate(kept).astype(corners.dtype)
+
+
+def _turning_back(step: np.ndarray) -> np.ndarray:
+    """The corners k at which the closed polygon's x or y turns back: step k (the sign of corner
+    k -> k + 1, (p, 2)) is the opposite of the last non-zero step along that axis before it
+    (the turn may pass through steps along the other axis only)."""
+    last = [int(next((v for v in step[::-1, axis] if v != 0), 0)) for axis in range(2)]
+    ends = []
+    for k in range(len(step)):
+        back = False
+        for axis in range(2):
+            sign = int(step[k, axis])
+            if sign != 0:
+                back = back or sign == -last[axis]
+                last[axis] = sign
+        if back:
+            ends.append(k)
+    return np.array(ends, np.int64)
 
 
 def free_side(points: np.ndarray, hole: bool) -> int:

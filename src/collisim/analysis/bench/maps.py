@@ -15,18 +15,24 @@ against the exact shapes:
   swamp the map's error), each alone, under the discrete method with the map against ccd with
   the exact outline (ccd is exact; the discrete steps add their own error, the floor the
   curve flattens onto);
-* cost: time per body per step of the map phase, from the discrete run's profile.
+* cost: time per body per step of the map phase, from the discrete run's profile;
+* the painted slope: a frictionless, inelastic ball released on a 20-degree slope painted at the
+  map's resolution, under each method: its acceleration down the slope after landing (fitted
+  over 2 s) against g sin 20°, and the map collisions a second logged while it slides (it should
+  log none: it slides, it does not hit).
 
 Lengths are in particle radii. Everything runs in one process, one resolution after another.
 """
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import numpy as np
 
 import collisim
 from collisim.core.files import save_figure, write_table
+from collisim.core.kinds import MAP
 from collisim.statics.collision_map import CollisionMap
 
 RADIUS = 0.2
@@ -120,6 +126,41 @@ def drop_world(count: int = 40, seed: int = 2, collision_map=None, segments=None
                           map=collision_map, segments=segments)
 
 
+SLOPE = math.radians(20.0)
+SLOPE_BOX = (0.0, 0.0, 16.0, 10.0)
+LANDED = 0.25   # seconds: the ball starts a pixel above the slope
+
+
+def _slope_height(x):
+    return 8.0 - math.tan(SLOPE) * x
+
+
+def slope_world(cells_per_radius: float) -> collisim.World:
+    """A ball at rest a pixel above a 20-degree slope painted with cells_per_radius pixels a
+    radius (a pixel solid where its centre lies under the line), frictionless and inelastic."""
+    cell = RADIUS / cells_per_radius
+    width, height = int(round(SLOPE_BOX[2] / cell)), int(round(SLOPE_BOX[3] / cell))
+    columns, rows = np.meshgrid(np.arange(width), np.arange(height))
+    below = SLOPE_BOX[3] - (rows + 0.5) * cell < _slope_height((columns + 0.5) * cell)
+    level = CollisionMap.from_image(np.where(below, 0, 255).astype(np.uint8), cell=cell)
+    normal = np.array([math.sin(SLOPE), math.cos(SLOPE)])
+    start = np.array([1.5, _slope_height(1.5)]) + (RADIUS + cell) * normal
+    return collisim.World([start], [[0.0, 0.0]], RADIUS, box=SLOPE_BOX, map=level, gravity=(0.0, -9.8),
+                          restitution=0.0)
+
+
+def slope_slide(cells_per_radius: float, method: str, seconds: float = 2.0) -> tuple:
+    """(the relative error of the acceleration down the painted slope, map collisions a second
+    while it slides), after landing."""
+    run = collisim.simulate(collisim.Scene(world=slope_world(cells_per_radius), fps=60, seconds=seconds,
+                                           method=method))
+    down = run.positions[:, 0] @ np.array([math.cos(SLOPE), -math.sin(SLOPE)])
+    landed = run.times > LANDED
+    acceleration = 2.0 * np.polyfit(run.times[landed], down[landed], 2)[0]
+    sliding = (run.events.kind == MAP) & (run.events.time > LANDED)
+    return acceleration / (9.8 * math.sin(SLOPE)) - 1.0, float(sliding.sum() / (seconds - LANDED))
+
+
 def measure(cells_per_radius: float, seconds: float = 1.0) -> dict:
     m = level_map(cells_per_radius)
     points = probe_points()
@@ -144,12 +185,15 @@ def measure(cells_per_radius: float, seconds: float = 1.0) -> dict:
         exact = collisim.simulate(collisim.Scene(world=alone.copy(map=None, segments=exact_segments()),
                                                  fps=60, seconds=seconds, method="ccd"))
         errors.append(np.hypot(*(discrete.positions[-1, 0] - exact.positions[-1, 0])) / RADIUS)
+    slope = {method: slope_slide(cells_per_radius, method) for method in ("discrete", "ccd")}
     return {"cells_per_radius": cells_per_radius, "cell": m.cell, "pixels": int(m.solid.size),
             "distance_error_mean": float(distance_error.mean()), "distance_error_max": float(distance_error.max()),
             "normal_error_deg_mean": float(angle.mean()), "normal_error_deg_p95": float(np.percentile(angle, 95)),
             "penetration_max": float(max(depths.max(), 0.0) / RADIUS),
             "position_error_1s_median": float(np.median(errors)),
-            "map_ns_per_body_step": float(1e9 * statics_seconds / steps / world.n)}
+            "map_ns_per_body_step": float(1e9 * statics_seconds / steps / world.n),
+            "slope_error_discrete": slope["discrete"][0], "slope_error_ccd": slope["ccd"][0],
+            "slope_collisions_per_s_discrete": slope["discrete"][1], "slope_collisions_per_s_ccd": slope["ccd"][1]}
 
 
 def run(out_dir: Path, cells=CELLS_PER_RADIUS, seconds: float = 1.0, progress: bool = True) -> dict:
@@ -167,23 +211,27 @@ def run(out_dir: Path, cells=CELLS_PER_RADIUS, seconds: float = 1.0, progress: b
     return {"rows": rows, "csv": str(csv_path), "png": str(png_path)}
 
 
-HEADER = "cells/r  dist err mean/max (r)  normal err mean/p95 (deg)  penetration (r)  position err 1 s (r)  ns/body/step"
+HEADER = ("cells/r  dist err mean/max (r)  normal err mean/p95 (deg)  penetration (r)  position err 1 s (r)  "
+          "ns/body/step  slope accel err discrete/ccd  slope collisions/s discrete/ccd")
 
 
 def format_row(r: dict) -> str:
     return (f"{r['cells_per_radius']:7.1f}  {r['distance_error_mean']:9.4f} / {r['distance_error_max']:7.4f}  "
             f"{r['normal_error_deg_mean']:11.2f} / {r['normal_error_deg_p95']:7.2f}  "
-            f"{r['penetration_max']:15.4f}  {r['position_error_1s_median']:20.4f}  {r['map_ns_per_body_step']:12.0f}")
+            f"{r['penetration_max']:15.4f}  {r['position_error_1s_median']:20.4f}  {r['map_ns_per_body_step']:12.0f}  "
+            f"{100 * r['slope_error_discrete']:+12.2f} % / {100 * r['slope_error_ccd']:+6.2f} %  "
+            f"{r['slope_collisions_per_s_discrete']:14.1f} / {r['slope_collisions_per_s_ccd']:5.1f}")
 
 
 def chart(rows: list, path: Path) -> Path:
     """Errors in radii against cells per radius (log-log; a penetration of 0 is left off the
-    log axis and marked at the bottom), and the normal error in degrees beside it."""
+    log axis and marked at the bottom), the normal error in degrees beside it, and the painted
+    slope's acceleration error under each method (log-log, the 2 % target marked)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     k = np.array([r["cells_per_radius"] for r in rows])
-    fig, (left, right) = plt.subplots(1, 2, figsize=(10, 4.2), dpi=120)
+    fig, (left, right, slope) = plt.subplots(1, 3, figsize=(15, 4.2), dpi=120)
     for key, label in (("distance_error_mean", "distance error, mean"), ("distance_error_max", "distance error, max"),
                        ("penetration_max", "deepest penetration"),
                        ("position_error_1s_median", "position error after 1 s, median")):
@@ -202,6 +250,14 @@ def chart(rows: list, path: Path) -> Path:
     right.set_ylabel("degrees")
     right.set_title("normal error within 2 radii of a wall")
     right.legend(fontsize=7)
+    for method, marker in (("discrete", "o"), ("ccd", "s")):
+        errors = np.abs([r[f"slope_error_{method}"] for r in rows])
+        slope.loglog(k, np.maximum(errors, 1e-5), marker=marker, label=method)
+    slope.axhline(0.02, color="grey", linestyle="--", linewidth=1, label="2 %")
+    slope.set_xlabel("map cells per particle radius")
+    slope.set_ylabel("|acceleration / g sin 20° - 1|")
+    slope.set_title("a frictionless ball on a painted 20° slope")
+    slope.legend(fontsize=7)
     fig.suptitle("Collision map accuracy against resolution")
     fig.tight_layout()
     save_figure(fig, path)
