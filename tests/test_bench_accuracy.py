@@ -74,12 +74,10 @@ def test_run_writes_every_configuration_to_csv_and_a_chart(short_run):
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 10_000
 
 
-def test_ccd_errors_are_zero_against_itself(short_run):
+def test_ccd_keeps_the_elastic_gas_apart_and_its_energy(short_run):
     ccd = next(row for row in short_run["rows"] if row["method"] == "ccd")
-    assert ccd["position_error"] == 0 and ccd["pressure_error"] == 0
     assert ccd["lost"] == 0 and ccd["missed"] == 0
     assert ccd["max_overlap"] < 1e-9 and ccd["energy_drift"] < 1e-12   # round-off only
-    assert ccd["cost"] > 0
 
 
 def test_more_discrete_substeps_follow_ccd_more_closely(short_run):
@@ -140,12 +138,14 @@ def test_unknown_workload_is_one_clear_error(tmp_path):
         accuracy.run(tmp_path, workloads=["nope"], progress=False)
 
 
-def test_bench_accuracy_cli_prints_the_budget_ratios(cli, tmp_path):
-    result = cli("bench", "accuracy", "--workloads", "slow_gas", "--seconds", "0.5", "--repeats", "1",
-                 "--no-progress", "--out", tmp_path)
-    assert result.returncode == 0, result.stderr
-    assert "ccd / pymunk x1 on slow_gas:" in result.stdout
-    assert "pymunk mirror (callbacks) x1 / pymunk x1 on slow_gas:" in result.stdout
+def test_bench_accuracy_cli_prints_the_budget_ratios(tmp_path, capsys):
+    """The command's own main, in this process: the kernels the short run above compiled serve it."""
+    from collisim.cli import main
+    assert main(["bench", "accuracy", "--workloads", "slow_gas", "--seconds", "0.25", "--repeats", "1",
+                 "--no-progress", "--out", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "ccd / pymunk x1 on slow_gas:" in out
+    assert "pymunk mirror (callbacks) x1 / pymunk x1 on slow_gas:" in out
     assert (tmp_path / "accuracy.csv").exists() and (tmp_path / "accuracy_slow_gas.png").exists()
-    bad = cli("bench", "accuracy", "--workloads", "lava", "--out", tmp_path)
-    assert bad.returncode == 2 and "unknown workload 'lava'" in bad.stderr
+    assert main(["bench", "accuracy", "--workloads", "lava", "--out", str(tmp_path)]) == 2
+    assert "unknown workload 'lava'" in capsys.readouterr().err
