@@ -14,7 +14,7 @@ RADIUS = 0.16
 
 
 def level() -> collisim.CollisionMap:
-    """The table: a distance field for the discrete method, exact outlines for ccd."""
+    """The table: a distance field for the discrete method, its outlines (to a pixel) for ccd."""
     return collisim.CollisionMap.from_image(LEVEL, cell=CELL, origin=BOX[:2])
 
 
