@@ -26,7 +26,7 @@ from numba import njit
 
 DEPTH_SLACK = 0.5   # pixels: how far a contact's depth may read from the field at its centre (map_contact)
 CORNER_COS = math.cos(math.radians(45.0))   # end normals further apart than this: a corner (map_contact)
-DEPTH_TAPS = 8      # samples each side of the centre averaged along the outline for a contact's depth
+DEPTH_TAPS = 4      # samples each side of the centre averaged along the outline for a contact's depth
 
 MapField = namedtuple("MapField", ["x0", "y0", "cell", "nx", "ny", "distance"])
 MapField.__doc__ = """A collision map as the compiled step sees it (CollisionMap.field, or no_map_field()).
