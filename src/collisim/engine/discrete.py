@@ -73,11 +73,12 @@ with polygons, whose frames count the bounding-volume funnel (narrowphase/hierar
 whose contact phases compile the polygon paths (narrowphase/manifold.py), else None; pulled True
 where a body has an acceleration, else None: with nothing pulling the hold (response/hold.py)
 holds nothing, and is not compiled."""
-Contacts = namedtuple("Contacts", ["found", "rows", "count", "pairs"])
+Contacts = namedtuple("Contacts", ["found", "rows", "count", "pairs", "touching"])
 Contacts.__doc__ = """The contacts the next step starts from, kept from block to block (finding them again at
 each block's start cost a whole broad and narrow phase: a block is one frame at a million
 bodies): found and rows (response/rows.py, grown as needed), the rows' count (-1 before the
-first block: not found yet) and the candidate pairs (k, 2)."""
+first block: not found yet), the candidate pairs (k, 2) and which of them touch (k,) (empty
+when not known: a world asleep then finds them again, by the exact test, at every block)."""
 Work = namedtuple("Work", ["lo", "hi", "margin", "push", "shift", "push_turn", "shift_turn", "vertices",
                            "inverse_masses", "inverse_inertias", "moved", "fast"])
 Work.__doc__ = """The step's per-body arrays, made once a run (made at every block, they were a tenth of a
@@ -243,8 +244,7 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
     levels = level_scratch(s.volumes, b)
     # each step's contacts are found from the state that ends the step before (so a frame's
     # candidates are those of the state it records); the first block's, from the state given
-    found, rows, count, pairs = contacts
-    touching = np.empty(0, np.bool_)   # each frame's is found by the contact phases before its record
+    found, rows, count, pairs, touching = contacts
     t = cycles()
     if count < 0:
         found, rows, count, pairs, touching, t = _contact_phases(b, s, broad, sleep, dt, margin, lo, hi, vertices,
@@ -256,6 +256,14 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
         for _ in range(substeps):
             step_count += 1
             now = step_count * dt
+            if still(sleep, n) and touching.shape[0] == pairs.shape[0]:
+                # every body asleep since the contacts were found: nothing moves, nothing is found or
+                # solved (as in Box2D, a world asleep costs nothing), and the step is the sleepers'
+                # support alone, logged as the full step logs it
+                if sleep.carried_count[0] > 0:
+                    log = carry(sleep, log, now)
+                t = _lap(phase_cycles, SLEEP, t)
+                continue
             keep_start(s.map, scratch[2], b.positions)
             if outpaced(s.volumes, b, margin, dt, sleep.asleep):   # a pair faster than its rows can hold
                 out.approximate[frame] = True
@@ -297,11 +305,12 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
                                                                      vertices, scratch[3], found, rows,
                                                                      (pairs, touching), work.fast, phase_cycles, t)
         out.candidates[frame] = pairs.shape[0]
-        if frame > 0 and still_since_record and still(sleep, n):
+        still_now = still(sleep, n)
+        if frame > 0 and still_since_record and still_now:
             copy_rows(out.hierarchy[frame - 1], out.hierarchy[frame], out.hierarchy.shape[1])   # the same state as the frame before
         else:
             record_levels(levels, b, pairs, vertices, touching, out.hierarchy[frame])
-        still_since_record = still(sleep, n)
+        still_since_record = still_now
         copy_rows(b.positions, out.positions[frame], n)   # (arrays.py: no slice assignment)
         copy_rows(b.velocities, out.velocities[frame], n)
         if out.angles.shape[1] == n:  # bodies that turn (see new_frames)
@@ -309,7 +318,7 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
             copy_rows(b.angular_velocities, out.angular_velocities[frame], n)
         t = _lap(phase_cycles, RECORD, t)
     phase_cycles[TOTAL] += cycles() - start
-    return log, memory, Contacts(found, rows, count, pairs)
+    return log, memory, Contacts(found, rows, count, pairs, touching)
 
 
 class DiscreteStepper:
@@ -337,7 +346,7 @@ class DiscreteStepper:
         self.memory = no_memory()
         # room for contacts grows with what a step finds (rows are zeroed, so room held for 8
         # contacts a body cost 0.8 GB at a million bodies)
-        self.contacts = Contacts(new_found(64), new_rows(64), -1, np.empty((0, 2), np.int64))
+        self.contacts = Contacts(new_found(64), new_rows(64), -1, np.empty((0, 2), np.int64), np.empty(0, np.bool_))
         self.log = new_log(64)   # emptied and reused by every block: its room, grown once, stays
         self.work = new_work(self.bodies)
         self.broad = step_state(broadphase, world)
