@@ -80,19 +80,22 @@ bodies): found and rows (response/rows.py, grown as needed), the rows' count (-1
 first block: not found yet), the candidate pairs (k, 2) and which of them touch (k,) (empty
 when not known: a world asleep then finds them again, by the exact test, at every block)."""
 Work = namedtuple("Work", ["lo", "hi", "margin", "push", "shift", "push_turn", "shift_turn", "vertices",
-                           "inverse_masses", "inverse_inertias", "moved", "fast"])
+                           "inverse_masses", "inverse_inertias", "moved", "fast", "levels", "recorded"])
 Work.__doc__ = """The step's per-body arrays, made once a run (made at every block, they were a tenth of a
 gigabyte a frame at a million bodies): the bounding boxes lo, hi (n, 2) and margins (n,) of
 the contact phases; the solver's push, shift (n, 2) and their turns (n,) (response/solver.py);
 the polygons' placed vertices; 1/m and 1/I (the solver multiplies); moved (n,) bool, all False
-between steps (add_contact_motion); fast: the fast polygons' (fast_polygons.py)."""
+between steps (add_contact_motion); fast: the fast polygons' (fast_polygons.py); levels:
+record_levels' scratch (hierarchy.level_scratch); recorded (5,) int64: the last frame recorded's
+funnel counts (out.hierarchy's row) and whether every body was still at it (1, else 0), so that a
+block of a world asleep copies them rather than count them again."""
 
 
 def new_work(bodies) -> Work:
     n = len(bodies.positions)
     return Work(np.empty((n, 2)), np.empty((n, 2)), np.empty(n), np.zeros((n, 2)), np.zeros((n, 2)), np.zeros(n),
                 np.zeros(n), np.empty_like(bodies.body_vertices), 1.0 / bodies.masses, 1.0 / bodies.inertias,
-                np.zeros(n, np.bool_), new_fast(n))
+                np.zeros(n, np.bool_), new_fast(n), level_scratch(bodies), np.zeros(5, np.int64))
 
 
 @njit(cache=True)
@@ -237,11 +240,11 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
     start = cycles()
     b, s = bodies, statics
     n = b.positions.shape[0]
-    lo, hi, margin, push, shift, push_turn, shift_turn, vertices, inverse_masses, inverse_inertias, moved, _ = work
+    lo, hi, margin, push, shift, push_turn, shift_turn, vertices, inverse_masses, inverse_inertias, moved, _, levels, \
+        recorded = work
     scratch = statics_scratch(n, s.segments.shape[0])
     the_map = map_number(s.segments)   # the statics a row names: walls, segments, then the map
     statics_count = the_map + 1        # (the contacts' memory numbers them all)
-    levels = level_scratch(s.volumes, b)
     # each step's contacts are found from the state that ends the step before (so a frame's
     # candidates are those of the state it records); the first block's, from the state given
     found, rows, count, pairs, touching = contacts
@@ -250,20 +253,26 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
         found, rows, count, pairs, touching, t = _contact_phases(b, s, broad, sleep, dt, margin, lo, hi, vertices,
                                                                  scratch[3], found, rows, (pairs, touching),
                                                                  work.fast, phase_cycles, t)
-    still_since_record = False   # every body asleep at the last frame recorded, none since
+    still_since_record = recorded[4] == 1   # every body asleep at the last frame recorded, none since
+    idle = False   # every body asleep since the contacts were found, to the end of the block
     for frame in range(out.positions.shape[0]):
         frame_collisions = out.collisions[frame]
-        for _ in range(substeps):
+        for substep in range(substeps):
+            if idle:
+                break
             step_count += 1
             now = step_count * dt
             if still(sleep, n) and touching.shape[0] == pairs.shape[0]:
-                # every body asleep since the contacts were found: nothing moves, nothing is found or
-                # solved (as in Box2D, a world asleep costs nothing), and the step is the sleepers'
-                # support alone, logged as the full step logs it
+                # nothing moves, nothing is found or solved, and nothing can wake (no body is awake)
+                # until the block ends: as in Box2D, a world asleep costs nothing. Its steps are the
+                # sleepers' support alone, logged here for all of them as the full step logs it
+                idle = True
+                steps = (out.positions.shape[0] - frame) * substeps - substep
                 if sleep.carried_count[0] > 0:
-                    log = carry(sleep, log, now)
+                    log = carry(sleep, log, step_count, steps, dt)
+                step_count += steps - 1
                 t = _lap(phase_cycles, SLEEP, t)
-                continue
+                break
             keep_start(s.map, scratch[2], b.positions)
             if outpaced(s.volumes, b, margin, dt, sleep.asleep):   # a pair faster than its rows can hold
                 out.approximate[frame] = True
@@ -288,7 +297,7 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
                 come_to_rest(rows, count, v, w, m, inertia, s.friction)
                 log = _log_contacts(rows, count, log, now, frame_collisions, the_map)
             if sleep.carried_count[0] > 0:
-                log = carry(sleep, log, now)
+                log = carry(sleep, log, step_count, 1, dt)
             remembered = remember(rows, count, n, statics_count)
             memory = (remember_sleepers(sleep, remembered, memory, n, statics_count)
                       if sleep.sleeping[0] > 0 else remembered)
@@ -305,12 +314,14 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
                                                                      vertices, scratch[3], found, rows,
                                                                      (pairs, touching), work.fast, phase_cycles, t)
         out.candidates[frame] = pairs.shape[0]
-        still_now = still(sleep, n)
-        if frame > 0 and still_since_record and still_now:
-            copy_rows(out.hierarchy[frame - 1], out.hierarchy[frame], out.hierarchy.shape[1])   # the same state as the frame before
+        still_now = idle or still(sleep, n)
+        if still_since_record and still_now:   # the same state as the frame recorded before
+            copy_rows(recorded, out.hierarchy[frame], 4)
         else:
             record_levels(levels, b, pairs, vertices, touching, out.hierarchy[frame])
+            copy_rows(out.hierarchy[frame], recorded, 4)
         still_since_record = still_now
+        recorded[4] = still_now
         copy_rows(b.positions, out.positions[frame], n)   # (arrays.py: no slice assignment)
         copy_rows(b.velocities, out.velocities[frame], n)
         if out.angles.shape[1] == n:  # bodies that turn (see new_frames)

@@ -256,7 +256,7 @@ def format_asleep(found: dict) -> str:
     cells = [f"collisim {np.median(ours):.2f}"] + [
         f"{name} {np.median(times):.2f} ({min(ours / np.array(times)):.2f}-{max(ours / np.array(times)):.2f})"
         for name, times in us.items() if name != "collisim"]
-    asleep = ", ".join(f"{name} {k} / {n} after {seconds:g} s" for name, (k, seconds) in found["asleep"].items())
+    asleep = ", ".join(f"{name} {k} / {n} after {seconds:.1f} s" for name, (k, seconds) in found["asleep"].items())
     return (f"fully asleep: us a step (median) and collisim / each (range over {len(ours)} repeats): "
             + ", ".join(cells) + f"\nbodies asleep when timed: {asleep}")
 
