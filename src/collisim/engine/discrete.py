@@ -23,6 +23,8 @@ One step of dt is the pipeline below, each phase timed into the profile (engine/
 
 A frame is k substeps of dt/k, and a block of frames one compiled call (a Python call per phase
 would cost more than the work at a thousand bodies); with fewer than two bodies no pair phase runs.
+Once every body sleeps (engine/islands.py) nothing can move or wake, and the rest of the block is
+the sleepers' support, logged, and the record: as in Box2D, a world asleep costs nothing more.
 """
 from __future__ import annotations
 
