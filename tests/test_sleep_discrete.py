@@ -135,6 +135,27 @@ def test_sleeping_gives_the_same_bytes_with_every_broad_phase_and_block_size(bro
     assert blocks.tobytes() == reference.positions[1:].tobytes()
 
 
+def test_a_world_fully_asleep_records_and_logs_the_same_in_every_block_size():
+    # a step of a world whose every body sleeps only logs the support (engine/discrete.py): the
+    # frames, the funnel's counts and every step's support must be those of the full step
+    world = stack_world(extra=[(1.0, 0.2, 0.0, 0.0)])
+    reference = run(world, 3.0)
+    stepper = DiscreteStepper(world, FPS)
+    blocks = [stepper.run(k) for k in (1, 50, 7, 60, 62)]
+    assert stepper.sleep.asleep.all()
+    for name in ("positions", "velocities", "angles", "hierarchy"):
+        joined = np.concatenate([getattr(frames, name) for frames, _ in blocks])
+        assert joined.tobytes() == getattr(reference, name)[1:].tobytes(), name
+    events = collisim.Events.concatenate([events for _, events in blocks])
+    for name in ("time", "kind", "i", "j", "impulse", "point"):
+        assert getattr(events, name).tobytes() == getattr(reference.events, name).tobytes(), name
+    last = reference.events.time > 2.51                              # asleep: the support alone, every step
+    steps = np.unique(reference.events.time[last])
+    assert np.all(reference.events.kind[last] == SUPPORT)
+    assert steps.tolist() == [k * (1.0 / FPS) for k in range(151, 181)]
+    assert reference.events.impulse[last].sum() / 0.5 == pytest.approx(world.masses.sum() * G, rel=1e-4)
+
+
 def test_the_funnel_counts_the_pairs_of_sleepers():
     from collisim.engine.hierarchy import hierarchy
     world = stack_world()

@@ -128,12 +128,15 @@ def test_compare_runs_a_polygon_world_and_reports_that_ccd_cannot():
 
 def test_the_polygons_benchmark_runs_on_a_tiny_setting():
     # a smoke test, not timed: a few steps of the shipped scene through every engine and the table
-    from collisim.analysis.bench.polygons import format_rows, load_world, run
+    from collisim.analysis.bench.polygons import asleep_cost, format_asleep, format_rows, load_world, run
     world, fps = load_world()
     rows, extra = run(seconds=0.1, repeats=1, world=world, fps=fps)
     assert [row["phase"].split(" (")[0] for row in rows] == ["falling", "whole scene"]
     assert {"collisim", "pymunk", "pymunk sleeping"} <= set(rows[0]["ms"])
     assert all(ratio > 0 for row in rows for ratios in row["ratios"].values() for ratio in ratios)
     assert "collisim / each" in format_rows(rows, extra)
+    asleep = asleep_cost(world, fps, repeats=1)   # every engine's bodies asleep before it is timed
+    assert all(k == world.n for k, _ in asleep["asleep"].values()) and "fully asleep" in format_asleep(asleep)
+    assert all(us > 0 for times in asleep["us"].values() for us in times)
     with pytest.raises(ValueError, match="repeats"):
         run(seconds=0.1, repeats=0, world=world, fps=fps)

@@ -23,6 +23,8 @@ One step of dt is the pipeline below, each phase timed into the profile (engine/
 
 A frame is k substeps of dt/k, and a block of frames one compiled call (a Python call per phase
 would cost more than the work at a thousand bodies); with fewer than two bodies no pair phase runs.
+Once every body sleeps (engine/islands.py) nothing can move or wake, and the rest of the block is
+the sleepers' support, logged, and the record: as in Box2D, a world asleep costs nothing more.
 """
 from __future__ import annotations
 
@@ -73,25 +75,29 @@ with polygons, whose frames count the bounding-volume funnel (narrowphase/hierar
 whose contact phases compile the polygon paths (narrowphase/manifold.py), else None; pulled True
 where a body has an acceleration, else None: with nothing pulling the hold (response/hold.py)
 holds nothing, and is not compiled."""
-Contacts = namedtuple("Contacts", ["found", "rows", "count", "pairs"])
+Contacts = namedtuple("Contacts", ["found", "rows", "count", "pairs", "touching"])
 Contacts.__doc__ = """The contacts the next step starts from, kept from block to block (finding them again at
 each block's start cost a whole broad and narrow phase: a block is one frame at a million
 bodies): found and rows (response/rows.py, grown as needed), the rows' count (-1 before the
-first block: not found yet) and the candidate pairs (k, 2)."""
+first block: not found yet), the candidate pairs (k, 2) and which of them touch (k,) (empty
+when not known: a world asleep then finds them again, by the exact test, at every block)."""
 Work = namedtuple("Work", ["lo", "hi", "margin", "push", "shift", "push_turn", "shift_turn", "vertices",
-                           "inverse_masses", "inverse_inertias", "moved", "fast"])
+                           "inverse_masses", "inverse_inertias", "moved", "fast", "levels", "recorded"])
 Work.__doc__ = """The step's per-body arrays, made once a run (made at every block, they were a tenth of a
 gigabyte a frame at a million bodies): the bounding boxes lo, hi (n, 2) and margins (n,) of
 the contact phases; the solver's push, shift (n, 2) and their turns (n,) (response/solver.py);
 the polygons' placed vertices; 1/m and 1/I (the solver multiplies); moved (n,) bool, all False
-between steps (add_contact_motion); fast: the fast polygons' (fast_polygons.py)."""
+between steps (add_contact_motion); fast: the fast polygons' (fast_polygons.py); levels:
+record_levels' scratch (hierarchy.level_scratch); recorded (5,) int64: the last frame recorded's
+funnel counts (out.hierarchy's row) and whether every body was still at it (1, else 0), so that a
+block of a world asleep copies them rather than count them again."""
 
 
 def new_work(bodies) -> Work:
     n = len(bodies.positions)
     return Work(np.empty((n, 2)), np.empty((n, 2)), np.empty(n), np.zeros((n, 2)), np.zeros((n, 2)), np.zeros(n),
                 np.zeros(n), np.empty_like(bodies.body_vertices), 1.0 / bodies.masses, 1.0 / bodies.inertias,
-                np.zeros(n, np.bool_), new_fast(n))
+                np.zeros(n, np.bool_), new_fast(n), level_scratch(bodies), np.zeros(5, np.int64))
 
 
 @njit(cache=True)
@@ -236,26 +242,39 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
     start = cycles()
     b, s = bodies, statics
     n = b.positions.shape[0]
-    lo, hi, margin, push, shift, push_turn, shift_turn, vertices, inverse_masses, inverse_inertias, moved, _ = work
+    lo, hi, margin, push, shift, push_turn, shift_turn, vertices, inverse_masses, inverse_inertias, moved, _, levels, \
+        recorded = work
     scratch = statics_scratch(n, s.segments.shape[0])
     the_map = map_number(s.segments)   # the statics a row names: walls, segments, then the map
     statics_count = the_map + 1        # (the contacts' memory numbers them all)
-    levels = level_scratch(s.volumes, b)
     # each step's contacts are found from the state that ends the step before (so a frame's
     # candidates are those of the state it records); the first block's, from the state given
-    found, rows, count, pairs = contacts
-    touching = np.empty(0, np.bool_)   # each frame's is found by the contact phases before its record
+    found, rows, count, pairs, touching = contacts
     t = cycles()
     if count < 0:
         found, rows, count, pairs, touching, t = _contact_phases(b, s, broad, sleep, dt, margin, lo, hi, vertices,
                                                                  scratch[3], found, rows, (pairs, touching),
                                                                  work.fast, phase_cycles, t)
-    still_since_record = False   # every body asleep at the last frame recorded, none since
+    still_since_record = recorded[4] == 1   # every body asleep at the last frame recorded, none since
+    idle = False   # every body asleep since the contacts were found, to the end of the block
     for frame in range(out.positions.shape[0]):
         frame_collisions = out.collisions[frame]
-        for _ in range(substeps):
+        for substep in range(substeps):
+            if idle:
+                break
             step_count += 1
             now = step_count * dt
+            if still(sleep, n) and touching.shape[0] == pairs.shape[0]:
+                # nothing moves, nothing is found or solved, and nothing can wake (no body is awake)
+                # until the block ends: as in Box2D, a world asleep costs nothing. Its steps are the
+                # sleepers' support alone, logged here for all of them as the full step logs it
+                idle = True
+                steps = (out.positions.shape[0] - frame) * substeps - substep
+                if sleep.carried_count[0] > 0:
+                    log = carry(sleep, log, step_count, steps, dt)
+                step_count += steps - 1
+                t = _lap(phase_cycles, SLEEP, t)
+                break
             keep_start(s.map, scratch[2], b.positions)
             if outpaced(s.volumes, b, margin, dt, sleep.asleep):   # a pair faster than its rows can hold
                 out.approximate[frame] = True
@@ -280,7 +299,7 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
                 come_to_rest(rows, count, v, w, m, inertia, s.friction)
                 log = _log_contacts(rows, count, log, now, frame_collisions, the_map)
             if sleep.carried_count[0] > 0:
-                log = carry(sleep, log, now)
+                log = carry(sleep, log, step_count, 1, dt)
             remembered = remember(rows, count, n, statics_count)
             memory = (remember_sleepers(sleep, remembered, memory, n, statics_count)
                       if sleep.sleeping[0] > 0 else remembered)
@@ -297,11 +316,14 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
                                                                      vertices, scratch[3], found, rows,
                                                                      (pairs, touching), work.fast, phase_cycles, t)
         out.candidates[frame] = pairs.shape[0]
-        if frame > 0 and still_since_record and still(sleep, n):
-            copy_rows(out.hierarchy[frame - 1], out.hierarchy[frame], out.hierarchy.shape[1])   # the same state as the frame before
+        still_now = idle or still(sleep, n)
+        if still_since_record and still_now:   # the same state as the frame recorded before
+            copy_rows(recorded, out.hierarchy[frame], 4)
         else:
             record_levels(levels, b, pairs, vertices, touching, out.hierarchy[frame])
-        still_since_record = still(sleep, n)
+            copy_rows(out.hierarchy[frame], recorded, 4)
+        still_since_record = still_now
+        recorded[4] = still_now
         copy_rows(b.positions, out.positions[frame], n)   # (arrays.py: no slice assignment)
         copy_rows(b.velocities, out.velocities[frame], n)
         if out.angles.shape[1] == n:  # bodies that turn (see new_frames)
@@ -309,7 +331,7 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
             copy_rows(b.angular_velocities, out.angular_velocities[frame], n)
         t = _lap(phase_cycles, RECORD, t)
     phase_cycles[TOTAL] += cycles() - start
-    return log, memory, Contacts(found, rows, count, pairs)
+    return log, memory, Contacts(found, rows, count, pairs, touching)
 
 
 class DiscreteStepper:
@@ -337,7 +359,7 @@ class DiscreteStepper:
         self.memory = no_memory()
         # room for contacts grows with what a step finds (rows are zeroed, so room held for 8
         # contacts a body cost 0.8 GB at a million bodies)
-        self.contacts = Contacts(new_found(64), new_rows(64), -1, np.empty((0, 2), np.int64))
+        self.contacts = Contacts(new_found(64), new_rows(64), -1, np.empty((0, 2), np.int64), np.empty(0, np.bool_))
         self.log = new_log(64)   # emptied and reused by every block: its room, grown once, stays
         self.work = new_work(self.bodies)
         self.broad = step_state(broadphase, world)

@@ -187,18 +187,13 @@ def each_level(shapes, positions, radii, vertices, start, volumes, pairs, out):
     return out
 
 
-def level_scratch(volumes, bodies):
-    """What record_levels needs for a block of frames: the bodies' frame_boxes and room for their
-    volumes (n, 10); None for a world of circles (volumes None), which is not counted."""
-    raise NotImplementedError("level_scratch is called from compiled code")
-
-
-@overload(level_scratch)
-def _level_scratch(volumes, bodies):
-    if isinstance(volumes, types.NoneType):
-        return lambda volumes, bodies: None
-    return lambda volumes, bodies: (frame_boxes(bodies.shapes, bodies.body_vertices, bodies.vertex_start),
-                                    np.empty((bodies.positions.shape[0], 10)))
+def level_scratch(bodies):
+    """What record_levels needs, made once a run (a block of a world asleep cost more finding the
+    frame_boxes again than stepping): the bodies' frame_boxes and room for their volumes (n, 10);
+    None for a world of circles, which is not counted."""
+    if not np.any(bodies.shapes != CIRCLE):
+        return None
+    return frame_boxes(bodies.shapes, bodies.body_vertices, bodies.vertex_start), np.empty((len(bodies.shapes), 10))
 
 
 def record_levels(scratch, bodies, pairs, vertices, touching, counts):

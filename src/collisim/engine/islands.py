@@ -37,7 +37,9 @@ The state (Sleep) is per body, kept from block to block: rest speed (n,), second
 the velocity and turning (n, 3) vx, vy, ω the body had when it became still, asleep (n,) bool,
 island (n,) (the smallest body index in the island it fell asleep with), its
 acceleration while awake (n, 2), scratch for the islands, and the carried support (c, 5):
-body, wall (N_WALLS + k for segment k), impulse per step, point x, y.
+body, wall (N_WALLS + k for segment k), impulse per step, point x, y, in (body, wall) order:
+the order of the events (model/trajectory.py: Events), so that the steps of a world fully
+asleep log them in order and the block's events need no sorting.
 """
 from collections import namedtuple
 
@@ -167,9 +169,15 @@ def fall_asleep(sleep, bodies, rows, count, dt):
     if k + need > carried.shape[0]:
         return   # no room for their support (see new_sleep): they stay awake
     for r in range(count):
-        if _carried(rows, r, parent, least):
-            carried[k, 0], carried[k, 1], carried[k, 2] = rows.i[r], rows.wall[r], rows.impulse[r]
-            carried[k, 3], carried[k, 4] = rows.point[r, 0], rows.point[r, 1]
+        if _carried(rows, r, parent, least):   # put in (body, static) order (see the module), after its equals
+            at = k
+            while at > 0 and (carried[at - 1, 0] > rows.i[r] or
+                              (carried[at - 1, 0] == rows.i[r] and carried[at - 1, 1] > rows.wall[r])):
+                for column in range(5):
+                    carried[at, column] = carried[at - 1, column]
+                at -= 1
+            carried[at, 0], carried[at, 1], carried[at, 2] = rows.i[r], rows.wall[r], rows.impulse[r]
+            carried[at, 3], carried[at, 4] = rows.point[r, 0], rows.point[r, 1]
             k += 1
     sleep.carried_count[0] = k
     for i in range(n):
@@ -292,13 +300,17 @@ def keep_sleepers(sleep, memory, prior, n, statics):
 
 
 @njit(cache=True)
-def log_carried(sleep, log, now):
-    """The support sleepers give the walls and segments they rest on, into the log (SUPPORT)."""
+def log_carried(sleep, log, first, steps, dt):
+    """The support sleepers give the walls and segments they rest on, into the log (SUPPORT), at
+    each of `steps` steps of dt from step number `first` (at time first · dt): every step of a
+    world fully asleep in one call."""
     count = sleep.carried_count[0]
     if count == 0:
         return log
-    log = with_room(log, count)
+    log = with_room(log, count * steps)
     c = sleep.carried
-    for k in range(count):
-        append(log, now, SUPPORT, int(c[k, 0]), int(c[k, 1]), c[k, 2], c[k, 3], c[k, 4])
+    for step in range(first, first + steps):
+        now = step * dt
+        for k in range(count):
+            append(log, now, SUPPORT, int(c[k, 0]), int(c[k, 1]), c[k, 2], c[k, 3], c[k, 4])
     return log

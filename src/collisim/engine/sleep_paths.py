@@ -36,8 +36,9 @@ def keep_touching(sleep, bodies, vertices, pairs, touching, prior_pairs, prior_t
     raise NotImplementedError("keep_touching is called from compiled code")
 
 
-def carry(sleep, log, now):
-    """Log the support the sleepers rest on (islands.log_carried); returns the log."""
+def carry(sleep, log, first, steps, dt):
+    """Log the support the sleepers rest on at `steps` steps of dt from step number `first`
+    (islands.log_carried); returns the log."""
     raise NotImplementedError("carry is called from compiled code")
 
 
@@ -77,10 +78,10 @@ def _keep_touching(sleep, bodies, vertices, pairs, touching, prior_pairs, prior_
 
 
 @overload(carry)
-def _carry(sleep, log, now):
+def _carry(sleep, log, first, steps, dt):
     if _never(sleep):
-        return lambda sleep, log, now: log
-    return lambda sleep, log, now: log_carried(sleep, log, now)
+        return lambda sleep, log, first, steps, dt: log
+    return lambda sleep, log, first, steps, dt: log_carried(sleep, log, first, steps, dt)
 
 
 @overload(remember_sleepers)

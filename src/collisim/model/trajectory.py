@@ -53,12 +53,30 @@ class Events:
 
     @classmethod
     def concatenate(cls, parts: list) -> "Events":
-        """One Events of all parts, in canonical (time, kind, i, j) order."""
+        """One Events of all parts, in canonical (time, kind, i, j) order (a single part already
+        in that order is returned as it is)."""
         if not parts:
             return cls.empty()
-        merged = cls(*(np.concatenate([getattr(p, name) for p in parts]) for name in _EVENT_FIELDS))
+        merged = parts[0] if len(parts) == 1 else cls(*(np.concatenate([getattr(p, name) for p in parts])
+                                                        for name in _EVENT_FIELDS))
+        if merged.in_order():   # (the blocks of a run, or the support a world asleep logs a step)
+            return merged
         order = np.lexsort((merged.j, merged.i, merged.kind, merged.time))
         return merged.take(order)
+
+    def in_order(self) -> bool:
+        """Are the events in canonical (time, kind, i, j) order? (The stable sort would then give
+        them as they are; checking costs less than sorting.)"""
+        ahead = np.zeros(max(len(self.time) - 1, 0), np.bool_)   # a key past the one before
+        tied = np.ones_like(ahead)                               # every key so far equal to it
+        for name in ("time", "kind", "i", "j"):
+            key = getattr(self, name)
+            before, after = key[:-1], key[1:]
+            ahead |= tied & (after > before)
+            tied &= after == before
+            if not np.all(ahead | tied):
+                return False
+        return True
 
     def take(self, index) -> "Events":
         return Events(*(getattr(self, name)[index] for name in _EVENT_FIELDS))

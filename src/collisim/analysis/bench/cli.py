@@ -116,10 +116,11 @@ def cmd_bench(args) -> int:
             raise ValueError("rays and repeats must be >= 1")
         print(format_rays(bench_rays(count=args.rays, repeats=args.repeats)))
     elif args.kind == "polygons":
-        from .polygons import format_rows, load_world, run
+        from .polygons import asleep_cost, format_asleep, format_rows, load_world, run
         world, fps = load_world(args.scene)
         rows, extra = run(args.seconds, args.repeats, world, fps, falling=args.scene == "polygons")
         print(format_rows(rows, extra, args.scene))
+        print(format_asleep(asleep_cost(world, fps, args.repeats)))
     elif args.kind == "ccd":
         from .ccd import format_table, run
         _check_positive_seconds(args.seconds)

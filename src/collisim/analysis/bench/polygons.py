@@ -31,6 +31,11 @@ of collisim's ratio to each over the repeats, the bodies each engine has asleep 
 where collisim's step spends its time (its own per-phase profile, engine/profile.py, summed over
 the repeats).
 
+A last line gives the cost of a step of the world fully asleep (asleep_cost): each engine that
+sleeps (collisim, pymunk sleeping, Box2D 2.3) is run on a fresh copy until every body sleeps,
+then timed over ASLEEP_STEPS steps in alternating blocks of simulate's BLOCK_FRAMES (collisim
+records every frame and logs the sleepers' support, as a scene's run does), once a repeat.
+
     python -m collisim.analysis.bench.polygons [--scene pyramid40] [--seconds 8] [--repeats 3]
 """
 from __future__ import annotations
@@ -45,6 +50,8 @@ BLOCK_STEPS = 30          # steps per timed block: half a simulated second at 60
 SLEEP_SECONDS = 0.5       # pymunk sleeping: idle this long, a body sleeps (Box2D's b2_timeToSleep)
 BOX2D_MISSING = "Box2D 2.3 not installed (pip install box2d)"
 FALLING_SECONDS = 2.0     # the bodies are in the air until about here; a pile afterwards
+ASLEEP_STEPS = 640        # steps timed a repeat once every body sleeps: ten of simulate's blocks
+ASLEEP_BY = 20.0          # simulated seconds an engine is given to put every body to sleep
 
 
 def load_world(name: str = "polygons"):
@@ -216,6 +223,44 @@ def format_rows(rows: list[dict], extra: dict, scene: str = "polygons") -> str:
     return "\n".join(lines)
 
 
+def asleep_cost(world, fps: float, repeats: int = 3) -> dict:
+    """A step of the world fully asleep, in each engine that sleeps (the module): {"us": {engine:
+    [microseconds a step, one a repeat]}, "asleep": {engine: (bodies asleep when timed, simulated
+    seconds it took)}, "bodies": n}."""
+    from collisim.engine.simulate import BLOCK_FRAMES
+    engines = {name: engine for name, engine in contenders(world, fps).items() if name != "pymunk"}
+    settled = {name: _settle(engine, world.n, fps, BLOCK_FRAMES) for name, engine in engines.items()}
+    us = {name: [] for name in engines}
+    for _ in range(int(repeats)):
+        spent = dict.fromkeys(engines, 0.0)
+        for _ in range(ASLEEP_STEPS // BLOCK_FRAMES):
+            for name, engine in engines.items():
+                spent[name] += engine.advance(BLOCK_FRAMES)
+        for name in engines:
+            us[name].append(1e6 * spent[name] / (ASLEEP_STEPS // BLOCK_FRAMES * BLOCK_FRAMES))
+    return dict(us=us, asleep=settled, bodies=world.n)
+
+
+def _settle(engine, n: int, fps: float, block: int) -> tuple[int, float]:
+    """Advance an engine in blocks until all n bodies sleep, or ASLEEP_BY seconds: (asleep, seconds)."""
+    steps = 0
+    while engine.asleep() < n and steps < ASLEEP_BY * fps:
+        engine.advance(block)
+        steps += block
+    return engine.asleep(), steps / fps
+
+
+def format_asleep(found: dict) -> str:
+    us, n = found["us"], found["bodies"]
+    ours = np.array(us["collisim"])
+    cells = [f"collisim {np.median(ours):.2f}"] + [
+        f"{name} {np.median(times):.2f} ({min(ours / np.array(times)):.2f}-{max(ours / np.array(times)):.2f})"
+        for name, times in us.items() if name != "collisim"]
+    asleep = ", ".join(f"{name} {k} / {n} after {seconds:.1f} s" for name, (k, seconds) in found["asleep"].items())
+    return (f"fully asleep: us a step (median) and collisim / each (range over {len(ours)} repeats): "
+            + ", ".join(cells) + f"\nbodies asleep when timed: {asleep}")
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="python -m collisim.analysis.bench.polygons",
                                      description="the polygons scene: collisim's step against plain pymunk's")
@@ -226,6 +271,7 @@ def main(argv=None) -> int:
     world, fps = load_world(args.scene)
     rows, extra = run(args.seconds, args.repeats, world, fps, falling=args.scene == "polygons")
     print(format_rows(rows, extra, args.scene))
+    print(format_asleep(asleep_cost(world, fps, args.repeats)))
     return 0
 
 
