@@ -80,17 +80,24 @@ def may_turn(bodies, statics, dt, turns):
 
 @overload(may_turn)
 def _may_turn(bodies, statics, dt, turns):
-    if _lacks(statics, "map"):
-        return lambda bodies, statics, dt, turns: _reaches_box_or_segment(bodies, statics.box, statics.segments, dt,
-                                                                          turns)
+    # what the world lacks is not compiled (the branches on these constants are pruned)
+    with_segments, with_map = not _lacks(statics, "index"), not _lacks(statics, "map")
 
     def reach_statics(bodies, statics, dt, turns):
-        _reaches_box_or_segment(bodies, statics.box, statics.segments, dt, turns)
-        if has_map(statics.map):
-            for i in range(turns.shape[0]):
-                if not turns[i]:
-                    turns[i] = map_sample(statics.map, bodies.positions[i, 0], bodies.positions[i, 1])[0] <= \
-                        _travel(bodies, dt, i) + statics.map.cell
+        box, segments = statics.box, statics.segments
+        near = np.empty(segments.shape[0] + 1, np.int64)   # the segments the index has near a body
+        for i in range(turns.shape[0]):
+            reach = _travel(bodies, dt, i)
+            x, y = bodies.positions[i, 0], bodies.positions[i, 1]
+            turns[i] = x - reach <= box[0] or y - reach <= box[1] or x + reach >= box[2] or y + reach >= box[3]
+            if with_segments and not turns[i]:
+                count = segments_near(statics.index, x - reach, y - reach, x + reach, y + reach, near)
+                for c in range(count):
+                    if not beyond_segment(segments, near[c], x, y, reach):
+                        turns[i] = True
+                        break
+            if with_map and not turns[i] and has_map(statics.map):
+                turns[i] = map_sample(statics.map, x, y)[0] <= reach + statics.map.cell
         return turns
     return reach_statics
 
@@ -100,19 +107,6 @@ def _travel(bodies, dt, i):
     """How far from its centre body i's bounding circle can reach within the step."""
     v, a = bodies.velocities, bodies.accelerations
     return bodies.radii[i] + (length(v[i, 0], v[i, 1]) + 0.5 * length(a[i, 0], a[i, 1]) * dt) * dt
-
-
-@njit(cache=True)
-def _reaches_box_or_segment(bodies, box, segments, dt, turns):
-    for i in range(turns.shape[0]):
-        reach = _travel(bodies, dt, i)
-        x, y = bodies.positions[i, 0], bodies.positions[i, 1]
-        turns[i] = x - reach <= box[0] or y - reach <= box[1] or x + reach >= box[2] or y + reach >= box[3]
-        k = 0
-        while not turns[i] and k < segments.shape[0]:
-            turns[i] = not beyond_segment(segments, k, x, y, reach)
-            k += 1
-    return turns
 
 
 def map_phase(bodies, statics, start, held, dt, log, now, frame_collisions):

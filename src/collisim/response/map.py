@@ -34,6 +34,7 @@ import math
 from numba import njit
 
 from ..core.geometry.box import centre_range
+from .impulse import newton_impulse
 from ..statics.map_field import DEPTH_SLACK, map_contact, map_sample
 
 SAFETY = 1.0 / math.sqrt(2.0)   # the bilinear field's slope is at most sqrt(2) times the distance's
@@ -140,7 +141,7 @@ def _off_wall(velocities, masses, restitution, i, side):
     if (v <= 0.0) if side % 2 == 1 else (v >= 0.0):
         return 0.0, 0.0
     velocities[i, axis] = -restitution * v
-    return (1.0 + restitution) * abs(v) * masses[i], 0.5 * (1.0 - restitution * restitution) * v * v
+    return newton_impulse(-abs(v), restitution, masses[i]), 0.5 * (1.0 - restitution * restitution) * v * v
 
 
 @njit(cache=True, error_model="numpy")
@@ -197,7 +198,7 @@ def bounce_off_map(field, box, held, start, positions, velocities, accelerations
         velocities[i, 0] -= (1.0 + restitution) * approach * nx
         velocities[i, 1] -= (1.0 + restitution) * approach * ny
         if bounces == 0:
-            first_impulse = -(1.0 + restitution) * approach * masses[i]
+            first_impulse = newton_impulse(approach, restitution, masses[i])
             cx, cy = _contact_point(field, x, y, radii[i], nx, ny)
         bounces += 1
     # after BOUNCES_PER_STEP contacts in one step the body stays at the last one

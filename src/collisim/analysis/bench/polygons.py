@@ -94,15 +94,20 @@ def box2d_missing() -> str | None:
     return None
 
 
+def _timed(step, steps: int) -> float:
+    """The seconds step(steps) takes."""
+    start = time.perf_counter()
+    step(steps)
+    return time.perf_counter() - start
+
+
 class CollisimEngine:
     """collisim's discrete engine (a DiscreteStepper), timed around its run."""
     def __init__(self, stepper):
         self.stepper = stepper
 
     def advance(self, steps: int) -> float:
-        start = time.perf_counter()
-        self.stepper.run(steps)
-        return time.perf_counter() - start
+        return _timed(self.stepper.run, steps)
 
     def asleep(self) -> int:
         return int(np.count_nonzero(self.stepper.sleep.asleep))
@@ -132,9 +137,7 @@ class Box2DEngine:
         self.reference = reference
 
     def advance(self, steps: int) -> float:
-        start = time.perf_counter()
-        self.reference.step(steps)
-        return time.perf_counter() - start
+        return _timed(self.reference.step, steps)
 
     def asleep(self) -> int:
         return sum(not body.awake for body in self.reference.bodies)
