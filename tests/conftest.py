@@ -1,4 +1,5 @@
 import os
+import signal
 import subprocess
 import sys
 from pathlib import Path
@@ -26,6 +27,15 @@ def run_cli(*args, cwd=None, timeout=300):
     """Run `collisim ARGS` in a subprocess, as a user would."""
     return subprocess.run([sys.executable, "-m", "collisim", *map(str, args)], cwd=cwd or ROOT,
                           capture_output=True, text=True, timeout=timeout)
+
+
+def as_a_fresh_process():
+    """A child's SIGINT as a shell gives it: handled by default and not blocked. A test worker may
+    have it ignored or blocked at the system level (a library in it may have set that), and a child
+    inherits both: Python then leaves Ctrl-C ignored or pending, and collisim rightly so. Pass as
+    `preexec_fn` to a child that is sent SIGINT."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, [signal.SIGINT])
 
 
 @pytest.fixture

@@ -17,7 +17,7 @@ import pytest
 import collisim
 from collisim.pipeline import plan
 from collisim.render.timeline import draw_frame, make_players
-from conftest import ROOT, decode_video, run_cli
+from conftest import ROOT, as_a_fresh_process, decode_video, run_cli
 
 TINY = ("--seconds", "0.25", "--size", "160x90", "--no-progress")
 BACKGROUND_BGR = (28, 20, 18)   # palette.BACKGROUND (18, 20, 28) as BGR
@@ -336,7 +336,8 @@ def test_signal_mid_render_leaves_no_file_and_says_so(tmp_path, name, number, ou
     extra = ["--format", "png"] if out == "seq" else []
     process = subprocess.Popen(
         [sys.executable, "-m", "collisim", "render", "particles_250", "--seconds", "60", "--size", "320x180",
-         *extra, "--out", str(folder / out)], cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+         *extra, "--out", str(folder / out)], cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+        preexec_fn=as_a_fresh_process)
     seen = bytearray()
     reader = threading.Thread(target=lambda: [seen.extend(chunk) for chunk in iter(
         lambda: os.read(process.stderr.fileno(), 4096), b"")], daemon=True)

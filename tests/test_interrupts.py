@@ -13,6 +13,8 @@ import textwrap
 
 import pytest
 
+from conftest import as_a_fresh_process
+
 COMPILED_CALLS = textwrap.dedent("""
     import os, signal, threading
     from collections import namedtuple
@@ -41,17 +43,9 @@ COMPILED_CALLS = textwrap.dedent("""
 """)
 
 
-def _as_a_fresh_process():
-    """The child's SIGINT as a shell gives it: handled by default and not blocked. A test worker
-    may have it ignored or blocked at the system level (a library in it may have set that), and
-    a child inherits both: Python then leaves Ctrl-C ignored, and collisim rightly so."""
-    signal.signal(signal.SIGINT, signal.SIG_DFL)
-    signal.pthread_sigmask(signal.SIG_UNBLOCK, [signal.SIGINT])
-
-
 def run(script: str) -> subprocess.CompletedProcess:
     return subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=300,
-                          preexec_fn=_as_a_fresh_process)
+                          preexec_fn=as_a_fresh_process)
 
 
 @pytest.mark.parametrize("name", ["SIGTERM", "SIGHUP", "SIGINT"])
