@@ -11,7 +11,7 @@ RUN = """
 import sys, numba
 from collisim.core import compiling
 numba.config.CACHE_DIR = compiling.cache_folder(sys.argv[1])
-compiling.compile_one_process_at_a_time()
+compiling.save_one_process_at_a_time()
 sys.path.insert(0, sys.argv[1])
 from outer import outer
 print(outer())
@@ -63,35 +63,52 @@ def test_the_package_digest_sees_every_source_and_nothing_else(tmp_path):
     package_digest.cache_clear()
 
 
-# Two processes that need one kernel at the same moment: each waits for the file `go`, then calls
-# it and reports whether its dispatcher compiled it or loaded it from the cache.
+# Two processes that compile one kernel for two argument types at the same moment: each waits for
+# the file `go`, calls it, and reports its value and when its compile began and ended.
 AT_ONCE = """
 import os, sys, time, numba
+from numba.core import event
 from collisim.core import compiling
 numba.config.CACHE_DIR = sys.argv[2]
-compiling.compile_one_process_at_a_time()
+compiling.save_one_process_at_a_time()
 sys.path.insert(0, sys.argv[1])
 from outer import outer
+times = []
+class Timer(event.Listener):
+    def on_start(self, e): times.append(time.time())
+    def on_end(self, e): times.append(time.time())
+event.register("numba:compile", Timer())
 open(sys.argv[3], "w").close()
 while not os.path.exists(os.path.join(sys.argv[1], "go")):
     time.sleep(0.001)
-value = outer()
-print(value, sum(outer.stats.cache_misses.values()), sum(outer.stats.cache_hits.values()))
+value = outer(int(sys.argv[4]) if sys.argv[4].isdigit() else float(sys.argv[4]))
+print(value, min(times), max(times))
 """
 
 
-def test_processes_compiling_at_once_take_turns_and_the_second_loads_what_the_first_saved(tmp_path):
+def test_processes_compile_side_by_side_and_each_saves_its_own_kernel(tmp_path):
     package, cache = tmp_path / "package", tmp_path / "cache"
     write_package(package, 1.0)
+    (package / "outer.py").write_text((package / "outer.py").read_text().replace("def outer():", "def outer(y):")
+                                      .replace("return inner() + 0.5", "return 2 * y + inner() + 0.5"))
     cache.mkdir()
     ready = [tmp_path / f"ready{k}" for k in range(2)]
-    workers = [subprocess.Popen([sys.executable, "-c", AT_ONCE, str(package), str(cache), str(flag)],
-                                stdout=subprocess.PIPE, text=True) for flag in ready]
+    workers = [subprocess.Popen([sys.executable, "-c", AT_ONCE, str(package), str(cache), str(flag), argument],
+                                stdout=subprocess.PIPE, text=True) for flag, argument in zip(ready, ["3", "2.25"])]
     deadline = time.monotonic() + 120
     while not all(flag.exists() for flag in ready) and time.monotonic() < deadline:
         time.sleep(0.01)
     (package / "go").touch()
     reports = [worker.communicate(timeout=120)[0].split() for worker in workers]
-    assert [report[0] for report in reports] == ["1.5", "1.5"]
-    misses, hits = sorted(int(report[1]) for report in reports), sorted(int(report[2]) for report in reports)
-    assert misses == [0, 1] and hits == [0, 1]   # one compiled, the other loaded its kernel
+    assert [report[0] for report in reports] == ["7.5", "6.0"]
+    (start_a, end_a), (start_b, end_b) = [(float(report[1]), float(report[2])) for report in reports]
+    assert start_a < end_b and start_b < end_a   # compiled at the same time, not in turns
+    # a third process loads both from the cache, each the code compiled for its own type
+    loaded = subprocess.run([sys.executable, "-c", f"""
+import sys, numba
+numba.config.CACHE_DIR = {str(cache)!r}
+sys.path.insert(0, {str(package)!r})
+from outer import outer
+print(outer(3), outer(2.25), sum(outer.stats.cache_misses.values()), sum(outer.stats.cache_hits.values()))
+"""], capture_output=True, text=True, check=True).stdout.split()
+    assert loaded == ["7.5", "6.0", "0", "2"]

@@ -3,10 +3,10 @@
     scene file -> Scene -> World (bodies, statics) -> engine (discrete or ccd) -> Trajectory
                -> player (raster, overlays) -> writer (PyAV) -> renders/<scene>.mp4
 """
-from .core.compiling import compile_one_process_at_a_time, use_cache_folder
+from .core.compiling import save_one_process_at_a_time, use_cache_folder
 
 use_cache_folder()                # before any kernel is defined: kept in a folder of these sources' own
-compile_one_process_at_a_time()   # and never saved there by two processes at once (core/compiling.py)
+save_one_process_at_a_time()    # and never saved there by two processes at once (core/compiling.py)
 
 from .engine import simulate, stream  # noqa: E402
 from .model import Events, Panel, RenderSettings, Scene, Trajectory, World, load_trajectory

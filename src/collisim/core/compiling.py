@@ -26,14 +26,14 @@ kernels again, once. The folder is $NUMBA_CACHE_DIR/collisim-DIGEST when that is
 $XDG_CACHE_HOME/collisim/kernels/DIGEST (~/.cache when unset); numba's own setting
 (numba.config.CACHE_DIR) points there.
 
-`compile_one_process_at_a_time`: processes that compile into that folder at once (two renders
-on a fresh install, the test suite's workers) take turns. numba numbers a function's cached
-entries in the order they are saved: two processes saving one kernel for two argument types at
-once can both take number 1, and a later run would load code compiled for other types. So
-whenever numba takes its compiler lock (which it holds while it loads a kernel from the cache,
-compiles one, and saves it: its "numba:compiler_lock" event, numba.core.event), the process also
-takes a lock on a file in the folder. The process that waits then finds what the other saved and
-loads it instead of compiling it again.
+`save_one_process_at_a_time`: processes that compile into that folder at once (two renders on a
+fresh install, the test suite's workers) compile side by side, one a core, and take turns only to
+save. numba numbers a function's cached entries in the order they are saved: two processes saving
+one kernel for two argument types at once could both take number 1, and a later run would load
+code compiled for other types. So from the end of each compile (numba's "numba:compile" event,
+numba.core.event) until numba lets go of its compiler lock, within which it saves what it
+compiled, the process holds a lock on a file in the folder. Two processes that need the same
+kernel at the same moment may both compile it; the second save writes the same entry again.
 """
 import atexit
 import functools
@@ -100,45 +100,53 @@ def use_cache_folder() -> None:
         numba.config.CACHE_DIR = folder
 
 
-class _FolderLock(event.Listener):
-    """numba's compiler lock, extended to every process keeping kernels in one folder: one lock
-    file, opened once a process and closed at its exit (a file opened per compile was left open
-    by a signal that ended the process mid-compile, and Python said so on the way out). The
-    process's own threads take turns through `threads`, since a file lock is the process's."""
+class _SaveLock(event.Listener):
+    """Held from the end of a compile until numba has let go of the compiler lock it compiled
+    under: the save of what was compiled (the module docstring). One lock file, opened once a
+    process and closed at its exit. numba's lock is re-entrant and is announced before it is
+    taken and after it is let go, so each thread counts its own depth; the process's threads take
+    turns through `threads`, since a file lock is the process's."""
 
     def __init__(self, path: str):
         self.path, self.file = path, None
         self.threads = threading.Lock()
-        self.depth = threading.local()   # per thread: how deep in numba's (re-entrant) lock
+        self.mine = threading.local()   # per thread: depth in numba's lock, and where the save ends
 
     def on_start(self, event_):
-        depth = getattr(self.depth, "value", 0)
-        if depth == 0:
-            self.threads.acquire()
-            try:
-                if self.file is None:
-                    self.file = open(self.path, "a")
-                    atexit.register(self.file.close)
-                fcntl.flock(self.file, fcntl.LOCK_EX)   # another process compiling: wait for it
-            except BaseException:
-                self.threads.release()
-                raise
-        self.depth.value = depth + 1
+        if event_.kind == "numba:compiler_lock":
+            self.mine.depth = getattr(self.mine, "depth", 0) + 1
 
     def on_end(self, event_):
-        self.depth.value -= 1
-        if self.depth.value == 0:
+        mine = self.mine
+        if event_.kind == "numba:compile":   # compiled: numba saves it before it lets go
+            if getattr(mine, "release_at", None) is None:
+                self.threads.acquire()
+                try:
+                    if self.file is None:
+                        self.file = open(self.path, "a")
+                        atexit.register(self.file.close)
+                    fcntl.flock(self.file, fcntl.LOCK_EX)   # another process saving: wait for it
+                except BaseException:
+                    self.threads.release()
+                    raise
+                mine.release_at = mine.depth - 1
+            return
+        mine.depth -= 1
+        if getattr(mine, "release_at", None) is not None and mine.depth <= mine.release_at:
+            mine.release_at = None
             try:
                 fcntl.flock(self.file, fcntl.LOCK_UN)
             finally:
                 self.threads.release()
 
 
-def compile_one_process_at_a_time() -> None:
-    """Take turns with other processes compiling into this cache folder (the module docstring);
+def save_one_process_at_a_time() -> None:
+    """Take turns with other processes saving into this cache folder (the module docstring);
     nothing where numba keeps its own default folder or files cannot be locked."""
     folder = numba.config.CACHE_DIR
-    if fcntl is None or not folder or getattr(compile_one_process_at_a_time, "listening", False):
+    if fcntl is None or not folder or getattr(save_one_process_at_a_time, "listening", False):
         return
-    event.register("numba:compiler_lock", _FolderLock(os.path.join(folder, "compiling.lock")))
-    compile_one_process_at_a_time.listening = True
+    lock = _SaveLock(os.path.join(folder, "saving.lock"))
+    event.register("numba:compiler_lock", lock)
+    event.register("numba:compile", lock)
+    save_one_process_at_a_time.listening = True
