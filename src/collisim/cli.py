@@ -16,7 +16,7 @@ import traceback
 import warnings
 from pathlib import Path
 
-from . import __version__
+from . import __version__, warm
 from .analysis.bench.cli import add_bench_parser, cmd_bench
 from .analysis.sweep.cli import add_sweep_parser, cmd_sweep
 from .broadphase import NAMES as BROAD_PHASES
@@ -192,31 +192,18 @@ def default_out(job, args, variant: str = "") -> str:
 
 def cmd_render(args) -> int:
     from .model.scene import RenderSettings, Scene
-    from .pipeline import output_for, plan, render
-    from .render.video import Progress
 
     start = time.perf_counter()
     if args.out is not None and args.output_file is not None:
         raise ValueError("choose one output: --out PATH, or -o NAME (a name in renders/<scene>/), not both")
     source, name, own_fps, variant = render_source(args)
     settings = None if isinstance(source, Scene) else RenderSettings()
-    fps = args.fps
-    if fps is None and args.quality is None:
-        fps = own_fps   # the scene's video rate, even when --physics-fps changed its step
-    job = plan(source, args.size, fps=fps, quality=args.quality, settings=settings, name=name,
-               limits=not args.no_limits)
-    out = output_for(job, args.out if args.out is not None else default_out(job, args, variant), format=args.format,
-                     codec=args.codec, transparent=args.transparent, background=args.background, theme=args.theme,
-                     png_frame=args.png, last_frame=args.last_frame)
     profile = {} if args.profile else None
-    with Progress(bar=not args.no_progress) as progress:
-        if args.save_trajectory is not None:  # simulate once: save the run, then play it
-            trajectory = _saved_trajectory(source, args.save_trajectory)
-            job = plan(trajectory, job.size, fps=job.fps, settings=source.render, name=name, limits=False)
-        path = render(job, out.path, format=out.format, codec=out.codec, transparent=out.transparent,
-                      background=args.background, theme=args.theme, png_frame=out.frame, quality=args.quality,
-                      progress=progress,
-                      profile=profile)
+    helper = warm.start(source) if isinstance(source, Scene) else None   # a first run: a second process compiles
+    try:
+        job, out, path, progress = _render(args, source, name, own_fps, variant, settings, profile)
+    finally:
+        warm.stop(helper)
     seconds = time.perf_counter() - start
     if out.frame is not None:
         what = f"frame {out.frame}"
@@ -229,6 +216,29 @@ def cmd_render(args) -> int:
     if profile:
         print(profile_table(profile))
     return 0
+
+
+def _render(args, source, name, own_fps, variant, settings, profile):
+    """Plan the render and play it under the progress bar: (job, output, the file written, the
+    Progress)."""
+    from .pipeline import output_for, plan, render
+    from .render.video import Progress
+    fps = args.fps
+    if fps is None and args.quality is None:
+        fps = own_fps   # the scene's video rate, even when --physics-fps changed its step
+    job = plan(source, args.size, fps=fps, quality=args.quality, settings=settings, name=name,
+               limits=not args.no_limits)
+    out = output_for(job, args.out if args.out is not None else default_out(job, args, variant), format=args.format,
+                     codec=args.codec, transparent=args.transparent, background=args.background, theme=args.theme,
+                     png_frame=args.png, last_frame=args.last_frame)
+    with Progress(bar=not args.no_progress) as progress:
+        if args.save_trajectory is not None:  # simulate once: save the run, then play it
+            trajectory = _saved_trajectory(source, args.save_trajectory)
+            job = plan(trajectory, job.size, fps=job.fps, settings=source.render, name=name, limits=False)
+        path = render(job, out.path, format=out.format, codec=out.codec, transparent=out.transparent,
+                      background=args.background, theme=args.theme, png_frame=out.frame, quality=args.quality,
+                      progress=progress, profile=profile)
+    return job, out, path, progress
 
 
 def _saved_trajectory(source, path: Path):
