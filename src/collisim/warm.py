@@ -24,6 +24,9 @@ import tempfile
 import numba
 import numpy as np
 
+from .engine.warm import compile_step_tail
+from .render import splat
+
 
 def _discrete_world(scene):
     """(world, fps, substeps, broadphase) of the first world in `scene` (itself, then its panels
@@ -72,7 +75,6 @@ def stop(helper: subprocess.Popen | None) -> None:
 
 def compile_drawing() -> None:
     """Compile the disc and ring kernels as a frame draws them: a disc and a ring on a BGR frame."""
-    from .render import splat
     canvas = np.zeros((8, 8, 3), np.uint8)
     centre, colour = np.array([[4.0, 4.0]]), np.array([200.0, 100.0, 50.0])
     splat.draw_discs(canvas, centre, np.array([2.0]), colour)
@@ -80,7 +82,6 @@ def compile_drawing() -> None:
 
 
 def main(path: str) -> None:
-    from .engine.warm import compile_step_tail
     with open(path, "rb") as file:
         world, fps, substeps, broadphase = pickle.load(file)
     os.remove(path)
