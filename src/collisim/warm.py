@@ -51,8 +51,8 @@ def start(scene) -> subprocess.Popen | None:
     """The helper process, started on the scene's world when no step is in the cache yet, else
     None (a scene with no world the discrete method runs needs none either, nor a process whose
     saves into the cache do not take turns with other processes: core/compiling.py)."""
-    if not getattr(compiling.save_one_process_at_a_time, "listening", False):
-        return None   # saves into the folder are not taken in turns (no file locks, or numba's own folder)
+    if not compiling.saves_take_turns():
+        return None   # no file locks, or numba's own folder
     found = None if kernels_cached() else _discrete_world(scene)
     if found is None:
         return None

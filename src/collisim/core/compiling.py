@@ -47,7 +47,7 @@ from numba.core import event
 
 try:
     import fcntl
-except ImportError:   # Windows: no file locks here; processes compiling at once may need a second compile
+except ImportError:   # Windows: no file locks here, so saves do not take turns (and no first-run helper starts)
     fcntl = None
 
 PACKAGE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))   # collisim/
@@ -144,9 +144,15 @@ def save_one_process_at_a_time() -> None:
     """Take turns with other processes saving into this cache folder (the module docstring);
     nothing where numba keeps its own default folder or files cannot be locked."""
     folder = numba.config.CACHE_DIR
-    if fcntl is None or not folder or getattr(save_one_process_at_a_time, "listening", False):
+    if fcntl is None or not folder or saves_take_turns():
         return
     lock = _SaveLock(os.path.join(folder, "saving.lock"))
     event.register("numba:compiler_lock", lock)
     event.register("numba:compile", lock)
     save_one_process_at_a_time.listening = True
+
+
+def saves_take_turns() -> bool:
+    """Whether this process's saves into the cache folder take turns with other processes'
+    (save_one_process_at_a_time is listening): only then may two processes compile into it."""
+    return getattr(save_one_process_at_a_time, "listening", False)

@@ -16,8 +16,9 @@ robust:
 
 Segments: only if the body moves towards the segment (v·n < 0), it is reflected along the
 segment's normal n as off a wall: the normal speed at the contact is reflected with restitution
-and the distance past the contact reflected back out, energy-consistently. A body the contact solver held against a segment this step (resting there,
-or in a pile: response/rows.py) is only put back on it. This is a check at step times only: a body that moves more than its
+and the distance past the contact reflected back out, energy-consistently. A body the contact
+solver held against a segment this step (resting there, or in a pile: response/rows.py) is only
+put back on it. This is a check at step times only: a body that moves more than its
 diameter in one step can jump over a segment (tunnelling); method `ccd` cannot.
 """
 import math
