@@ -20,7 +20,7 @@ from . import __version__, warm
 from .analysis.bench.cli import add_bench_parser, cmd_bench
 from .analysis.sweep.cli import add_sweep_parser, cmd_sweep
 from .broadphase import NAMES as BROAD_PHASES
-from .engine import METHODS
+from .engine import METHODS, ahead
 from .engine.profile import profile_table
 from .interrupts import signals_interrupt
 from .io.formats import BY_EXTENSION, FORMATS
@@ -338,4 +338,12 @@ def run(argv=None) -> None:
     gc.freeze()
     status = main(argv)
     gc.freeze()
+    if ahead.computing():
+        # a signal or an error ended the command while the engine's thread was in a block, maybe
+        # compiling it: everything the command wrote is cleaned up by now, and Python's teardown
+        # (or waiting for the compile, as the API does at exit) would free numba's and LLVM's
+        # objects under that thread, which made LLVM abort the process. So it ends here.
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(status)
     sys.exit(status)

@@ -12,6 +12,7 @@ At most one block is computed ahead of the one being played, so memory holds two
 """
 from __future__ import annotations
 
+import atexit
 import queue
 import threading
 import time
@@ -19,6 +20,8 @@ import weakref
 from typing import Iterator
 
 _BLOCK, _ERROR, _END = range(3)
+THREAD_NAME = "collisim-engine"
+_workers = []   # (thread, its stop) of every worker started and not yet joined at exit
 
 
 class Ahead:
@@ -35,7 +38,10 @@ class Ahead:
         self._slot, self._taken, self._done, self.waited = slot, taken, False, 0.0
         # the worker holds the queue and the flags, not this object, so that dropping it stops the worker
         self._stop = weakref.finalize(self, _stop, slot, taken, stop)
-        threading.Thread(target=_work, args=(blocks, slot, taken, stop), name="collisim-engine", daemon=True).start()
+        worker = threading.Thread(target=_work, args=(blocks, slot, taken, stop), name=THREAD_NAME, daemon=True)
+        worker.start()
+        _workers[:] = [(thread, stopper) for thread, stopper in _workers if thread.is_alive()]
+        _workers.append((worker, self._stop))
 
     def __iter__(self):
         return self
@@ -84,3 +90,19 @@ def _stop(slot: queue.Queue, taken: threading.Semaphore, stop: threading.Event) 
         slot.get_nowait()   # a block computed ahead and not wanted now
     except queue.Empty:
         pass
+
+
+def computing() -> bool:
+    """Whether a worker is still computing a block (the first one compiles the engine)."""
+    return any(thread.is_alive() for thread, _ in _workers)
+
+
+@atexit.register
+def _end_workers() -> None:
+    """At the interpreter's exit, stop every worker and wait for the block it is in. Python's
+    teardown frees numba's and LLVM's objects, and a worker still compiling under it made LLVM
+    abort the process (a script ended by Ctrl-C in its first render). A stopped worker ends once
+    its block is done; the CLI does not wait (cli.run)."""
+    for thread, stopper in _workers:
+        stopper()
+        thread.join()
