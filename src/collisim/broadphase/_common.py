@@ -11,11 +11,10 @@
 import math
 
 import numpy as np
-from numba import njit
 
 from ..core.arrays import grown
-from ..core.compiling import kernel
 from ..core.checks import is_whole
+from ..core.compiling import compiled, kernel
 from ._rays import check_ray, sorted_hits
 
 
@@ -70,7 +69,7 @@ def check_positive_option(name: str, value) -> float:
     return float(value)
 
 
-@njit(cache=True)
+@compiled
 def boxes_overlap(lo, hi, i, j):
     """Do boxes i and j overlap? lo, hi: (n, 2). Touching (equal edges) counts.
 
@@ -81,7 +80,7 @@ def boxes_overlap(lo, hi, i, j):
             & (lo[i, 1] <= hi[j, 1]) & (lo[j, 1] <= hi[i, 1]))
 
 
-@njit(cache=True)
+@compiled
 def gathered_boxes(lo, hi):
     """The boxes as rows x0, y0, x1, y1 (n, 4): the trees keep a run of these beside their
     index runs and move them together, so a node's passes read memory in sequence rather
@@ -92,7 +91,7 @@ def gathered_boxes(lo, hi):
     return rows
 
 
-@njit(cache=True)
+@compiled
 def copy_row(source, k, target, to):
     """target[to] = source[k] for (m, 4) box rows, as four scalar moves (numba's row
     assignment goes through its general broadcasting path, several times slower)."""
@@ -100,13 +99,13 @@ def copy_row(source, k, target, to):
         target[to, c] = source[k, c]
 
 
-@njit(cache=True)
+@compiled
 def row_centre(rows, k, axis):
     """The centre on `axis` of box row k of gathered_boxes rows."""
     return 0.5 * rows[k, axis] + 0.5 * rows[k, axis + 2]
 
 
-@njit(cache=True)
+@compiled
 def centre_spread(rows, axis):
     """Max minus min of the centres of box rows (m, 4) (gathered_boxes) on `axis`."""
     low, high = np.inf, -np.inf
@@ -117,14 +116,14 @@ def centre_spread(rows, axis):
     return high - low
 
 
-@njit(cache=True)
+@compiled
 def widest_axis(rows):
     """The axis (0 or 1) along which the centres of box rows (m, 4), m >= 1, (gathered_boxes)
     spread widest (ties go to axis 0)."""
     return 1 if centre_spread(rows, 1) > centre_spread(rows, 0) else 0
 
 
-@njit(cache=True)
+@compiled
 def select_smallest(values, end, k):
     """Reorder values[:end] in place so values[k] is what a sort would put there, the k
     values before it no larger and those after no smaller (C++'s nth_element), 0 <= k < end.
@@ -164,7 +163,7 @@ def select_smallest(values, end, k):
     insertion_sort(values, first, last + 1)
 
 
-@njit(cache=True)
+@compiled
 def new_pair_buffer(n):
     """An empty (capacity, 2) intp buffer for a kernel to append pairs to.
 
@@ -175,7 +174,7 @@ def new_pair_buffer(n):
     return np.empty((max(16, 2 * n), 2), np.intp)
 
 
-@njit(cache=True)
+@compiled
 def push_pair(pairs, count, i, j):
     """Write the pair {i, j} as (min, max) into row `count` of `pairs`.
 
@@ -188,7 +187,7 @@ def push_pair(pairs, count, i, j):
     return pairs, count + 1
 
 
-@njit(cache=True)
+@compiled
 def reserve_pairs(pairs, count, more):
     """`pairs` with room for `more` pairs after its first `count` (grown as push_pair grows it).
 
@@ -208,7 +207,7 @@ def put_pair(pairs, count, i, j):
     return count + 1
 
 
-@njit(cache=True)
+@compiled
 def insertion_sort(values, first, end):
     """Sort values[first:end] in place; quickest for a few elements."""
     for k in range(first + 1, end):
@@ -340,14 +339,14 @@ def check_query_box(box_lo, box_hi) -> tuple[float, float, float, float]:
     return float(box_lo[0]), float(box_lo[1]), float(box_hi[0]), float(box_hi[1])
 
 
-@njit(cache=True)
+@compiled
 def box_meets_query(lo, hi, i, qx0, qy0, qx1, qy1):
     """Does box i (lo, hi: (n, 2)) overlap the box [qx0, qx1] x [qy0, qy1]?
     Touching counts, as in boxes_overlap."""
     return (lo[i, 0] <= qx1) & (qx0 <= hi[i, 0]) & (lo[i, 1] <= qy1) & (qy0 <= hi[i, 1])
 
 
-@njit(cache=True)
+@compiled
 def overlapping_in_run(lo, hi, boxes, first, end, qx0, qy0, qx1, qy1, found, count):
     """Append the boxes of boxes[first:end] (a leaf's or a cell's run) that overlap the query
     box to found (push_index). Returns found and the new count."""
@@ -357,7 +356,7 @@ def overlapping_in_run(lo, hi, boxes, first, end, qx0, qy0, qx1, qy1, found, cou
     return found, count
 
 
-@njit(cache=True)
+@compiled
 def push_index(found, count, i):
     """Write box index i into slot `count` of `found` (growing it if full);
     returns the (possibly new) buffer and the new count."""

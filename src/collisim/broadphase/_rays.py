@@ -24,9 +24,9 @@ pruning and this test agree to the last bit.
 import math
 
 import numpy as np
-from numba import njit
 
 from ..core.arrays import grown
+from ..core.compiling import compiled
 
 
 def check_ray(origin, direction, max_distance) -> tuple[float, float, float, float, float]:
@@ -60,13 +60,13 @@ def check_ray(origin, direction, max_distance) -> tuple[float, float, float, flo
     return float(origin[0]), float(origin[1]), dx / norm, dy / norm, max_distance
 
 
-@njit(cache=True)
+@compiled
 def crossing(o, u, edge):
     """The t at which o + t * u (one axis, u != 0) reaches the line at `edge`."""
     return (edge - o) / u
 
 
-@njit(cache=True)
+@compiled
 def clip_to_slab(enter, leave, o, u, edge_lo, edge_hi):
     """Narrow the ray's time interval [enter, leave] to the part inside the
     slab edge_lo <= coordinate <= edge_hi on one axis (o, u: the ray's
@@ -81,7 +81,7 @@ def clip_to_slab(enter, leave, o, u, edge_lo, edge_hi):
     return max(enter, min(t_a, t_b)), min(leave, max(t_a, t_b))
 
 
-@njit(cache=True)
+@compiled
 def ray_box_entry(ox, oy, ux, uy, max_distance, x0, y0, x1, y1):
     """Where the ray (ox, oy) + t (ux, uy), t in [0, max_distance], enters the
     box [x0, x1] x [y0, y1]: that t (0 if the origin is in or on the box), or
@@ -91,7 +91,7 @@ def ray_box_entry(ox, oy, ux, uy, max_distance, x0, y0, x1, y1):
     return enter if enter <= leave else np.inf
 
 
-@njit(cache=True)
+@compiled
 def push_hit(found, t_enter, count, i, t):
     """Append box i entered at t to the buffers found (m,) intp and t_enter (m,)
     float64, growing them when full; returns both buffers and the new count."""
@@ -102,7 +102,7 @@ def push_hit(found, t_enter, count, i, t):
     return found, t_enter, count + 1
 
 
-@njit(cache=True)
+@compiled
 def hits_in_run(lo, hi, boxes, first, end, ox, oy, ux, uy, max_distance, found, t_enter, count):
     """Test the boxes boxes[first:end] (a leaf's or a cell's run) against the ray and append
     the hits (push_hit). Returns found, t_enter and the new count."""
@@ -114,7 +114,7 @@ def hits_in_run(lo, hi, boxes, first, end, ox, oy, ux, uy, max_distance, found, 
     return found, t_enter, count
 
 
-@njit(cache=True)
+@compiled
 def farther_then_nearer(t_left, t_right):
     """The order in which to push two children on a traversal stack so the one the ray
     enters first is searched first: (farther, nearer) as 0 = left, 1 = right, each with
@@ -124,7 +124,7 @@ def farther_then_nearer(t_left, t_right):
     return 0, t_left < np.inf, 1, True
 
 
-@njit(cache=True)
+@compiled
 def new_hit_buffers():
     """Empty buffers for push_hit: (16,) intp and (16,) float64."""
     return np.empty(16, np.intp), np.empty(16, np.float64)

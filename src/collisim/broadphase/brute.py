@@ -10,13 +10,13 @@ per question, however small the query box or short the ray.
 """
 
 import numpy as np
-from numba import njit
 
+from ..core.compiling import compiled
 from ._common import BroadPhase, boxes_overlap, box_meets_query, new_pair_buffer, push_index, put_pair, reserve_pairs
 from ._rays import new_hit_buffers, push_hit, ray_box_entry
 
 
-@njit(cache=True)
+@compiled
 def brute_force_pairs(lo, hi):
     """All overlapping box pairs (i < j). lo, hi: (n, 2) -> (k, 2) intp."""
     n = lo.shape[0]
@@ -29,7 +29,7 @@ def brute_force_pairs(lo, hi):
     return pairs[:count]
 
 
-@njit(cache=True)
+@compiled
 def brute_force_query(lo, hi, qx0, qy0, qx1, qy1):
     """Boxes overlapping [qx0, qx1] x [qy0, qy1], ascending. lo, hi: (n, 2) -> (k,) intp."""
     found, count = np.empty(16, np.intp), np.intp(0)
@@ -39,7 +39,7 @@ def brute_force_query(lo, hi, qx0, qy0, qx1, qy1):
     return found[:count]
 
 
-@njit(cache=True)
+@compiled
 def brute_force_raycast(lo, hi, ox, oy, ux, uy, max_distance):
     """Boxes the ray meets, by testing each. lo, hi: (n, 2) -> found (k,) intp,
     t_enter (k,) float64, in index order."""

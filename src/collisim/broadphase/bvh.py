@@ -30,14 +30,14 @@ objects' boxes, so nothing below a node that is missed can be hit.
 """
 
 import numpy as np
-from numba import njit
 
+from ..core.compiling import compiled
 from ._common import (BroadPhase, box_meets_query, boxes_overlap, check_boxes, check_int_option, copy_row,
                       gathered_boxes, new_pair_buffer, overlapping_in_run, push_pair, row_centre, select_smallest, widest_axis)
 from ._rays import farther_then_nearer, hits_in_run, new_hit_buffers, ray_box_entry
 
 
-@njit(cache=True)
+@compiled
 def split_in_half(order, rows, first, count, axis, keys, moved, moved_rows):
     """Reorder the run [first, first + count) of order (box indices) and rows (their boxes,
     gathered_boxes) so the count // 2 boxes with the smallest centres on `axis` come first.
@@ -74,7 +74,7 @@ def split_in_half(order, rows, first, count, axis, keys, moved, moved_rows):
         copy_row(moved_rows, k, rows, first + k)
 
 
-@njit(cache=True)
+@compiled
 def fit_boxes(rows, node_first, node_count, node_left, node_lo, node_hi):
     """Each node's tight box: a leaf's around its rows (gathered_boxes, in order's order),
     any other node's around its two children's (numbered after it, so done first)."""
@@ -92,7 +92,7 @@ def fit_boxes(rows, node_first, node_count, node_left, node_lo, node_hi):
                 node_hi[node, axis] = max(node_hi[node, axis], rows[k, axis + 2])
 
 
-@njit(cache=True)
+@compiled
 def build_bvh(lo, hi, leaf_size):
     """Build the tree top-down by median object splits, into arrays allocated once.
 
@@ -144,7 +144,7 @@ def build_bvh(lo, hi, leaf_size):
             node_count[:n_nodes], node_left[:n_nodes], node_depth[:n_nodes])
 
 
-@njit(cache=True)
+@compiled
 def run_pairs(lo, hi, order, first_a, count_a, first_b, count_b, same, pairs, count):
     """Append overlapping pairs between two runs of `order`; `same` means both
     runs are one leaf, tested against itself (each pair once)."""
@@ -156,7 +156,7 @@ def run_pairs(lo, hi, order, first_a, count_a, first_b, count_b, same, pairs, co
     return pairs, count
 
 
-@njit(cache=True)
+@compiled
 def bvh_pairs(lo, hi, order, node_lo, node_hi, node_first, node_count, node_left):
     """Overlapping pairs by traversing the tree against itself (arrays from build_bvh).
 
@@ -186,7 +186,7 @@ def bvh_pairs(lo, hi, order, node_lo, node_hi, node_first, node_count, node_left
     return pairs[:count]
 
 
-@njit(cache=True)
+@compiled
 def bvh_query(lo, hi, order, node_lo, node_hi, node_first, node_count, node_left,
               qx0, qy0, qx1, qy1):
     """Boxes overlapping the query box [qx0, qx1] x [qy0, qy1] (arrays from build_bvh).
@@ -212,14 +212,14 @@ def bvh_query(lo, hi, order, node_lo, node_hi, node_first, node_count, node_left
     return found[:count], visited, tested
 
 
-@njit(cache=True)
+@compiled
 def node_entry(node_lo, node_hi, node, ox, oy, ux, uy, max_distance):
     """Where the ray enters node's box (inf if it misses)."""
     return ray_box_entry(ox, oy, ux, uy, max_distance,
                          node_lo[node, 0], node_lo[node, 1], node_hi[node, 0], node_hi[node, 1])
 
 
-@njit(cache=True)
+@compiled
 def bvh_raycast(lo, hi, order, node_lo, node_hi, node_first, node_count, node_left,
                 ox, oy, ux, uy, max_distance):
     """Boxes the ray meets (arrays from build_bvh).

@@ -17,8 +17,8 @@ It is not a broad phase the discrete step can choose (broadphase.NAMES): the dis
 rebuilds its structure every step, which the linked lists are not made for.
 """
 import numpy as np
-from numba import njit
 
+from ..core.compiling import compiled
 from ._common import (BroadPhase, bounding_box, boxes_overlap, new_pair_buffer, overlapping_in_run, push_index,
                       push_pair)
 from ._rays import clip_to_slab, hits_in_run, new_hit_buffers
@@ -39,7 +39,7 @@ def _build(lo, hi):
     return grid, half
 
 
-@njit(cache=True)
+@compiled
 def cell_list_pairs(grid, lo, hi):
     """Overlapping pairs (k, 2) intp, i < j, each once: every box against the boxes of the
     3 × 3 block of cells around its own."""
@@ -56,7 +56,7 @@ def cell_list_pairs(grid, lo, hi):
     return pairs[:count]
 
 
-@njit(cache=True)
+@compiled
 def _cell_range(grid, x0, y0, x1, y1):
     """Column and row ranges (cx_lo, cx_hi, cy_lo, cy_hi), ends exclusive, of the cells under
     the box [x0, x1] × [y0, y1], one more on every side (a centre rounded onto a cell edge may
@@ -66,7 +66,7 @@ def _cell_range(grid, x0, y0, x1, y1):
             max(first // grid.nx - 1, 0), min(last // grid.nx + 2, grid.ny))
 
 
-@njit(cache=True)
+@compiled
 def _boxes_in_cells(grid, cx_lo, cx_hi, cy_lo, cy_hi):
     """The boxes filed in the cells of the column and row ranges: (boxes (k,) intp, cells)."""
     boxes, count = np.empty(16, np.intp), np.intp(0)
@@ -79,7 +79,7 @@ def _boxes_in_cells(grid, cx_lo, cx_hi, cy_lo, cy_hi):
     return boxes[:count], (cx_hi - cx_lo) * (cy_hi - cy_lo)
 
 
-@njit(cache=True)
+@compiled
 def cell_list_query(grid, lo, hi, half, qx0, qy0, qx1, qy1):
     """Boxes overlapping the query box: (found (k,) intp, cells visited, boxes tested)."""
     candidates, visited = _boxes_in_cells(grid, *_cell_range(grid, qx0 - half, qy0 - half, qx1 + half, qy1 + half))
@@ -88,7 +88,7 @@ def cell_list_query(grid, lo, hi, half, qx0, qy0, qx1, qy1):
     return found[:count], visited, len(candidates)
 
 
-@njit(cache=True)
+@compiled
 def cell_list_raycast(grid, lo, hi, half, ox, oy, ux, uy, max_distance):
     """Boxes the ray meets: (found (k,) intp, t_enter (k,), cells visited, boxes tested)."""
     (found, t_enter), count = new_hit_buffers(), np.intp(0)

@@ -29,9 +29,8 @@ are the same events as with cells sized by the largest body.
 from collections import namedtuple
 
 import numpy as np
-from numba import njit
 
-from ..core.compiling import kernel
+from ..core.compiling import compiled, kernel
 from ..core.geometry.segment import segment_meets_rect
 from ..statics.segment_index import build_segment_index, segments_near
 
@@ -118,7 +117,7 @@ def make_grid(box, radii, segments, separate_large=True, packed=False):
     return grid._replace(segment_start=start, segment_index=listed)
 
 
-@njit(cache=True, error_model="numpy")
+@compiled(error_model="numpy")
 def _register_segments(grid, segments, index, reach):
     """CSR lists (start, listed) of the segments within `reach` of each cell: the static
     index's candidates near the cell, kept if they really meet the cell grown by reach."""

@@ -34,8 +34,8 @@ filed in them (see :mod:`.grid_walk`).
 """
 
 import numpy as np
-from numba import njit
 
+from ..core.compiling import compiled
 from ._common import (BroadPhase, bounding_box, box_meets_query, boxes_overlap, check_boxes,
                       check_positive_option, new_pair_buffer, push_index, push_pair)
 from .grid_walk import grid_raycast
@@ -63,7 +63,7 @@ def grid_layout(lo: np.ndarray, hi: np.ndarray, cell_size: float) -> tuple[np.nd
     return origin, (int(nx), int(ny))
 
 
-@njit(cache=True)
+@compiled
 def cell_of(x, origin, cells_per_unit, n_cells):
     """Grid column (or row) holding coordinate x, clamped to 0 .. n_cells - 1.
 
@@ -73,7 +73,7 @@ def cell_of(x, origin, cells_per_unit, n_cells):
     return min(max(k, 0), n_cells - 1)
 
 
-@njit(cache=True)
+@compiled
 def cell_range(lo, hi, i, origin, cells_per_unit, nx, ny):
     """First and last column and row of the cells box i overlaps."""
     return (cell_of(lo[i, 0], origin[0], cells_per_unit, nx),
@@ -82,7 +82,7 @@ def cell_range(lo, hi, i, origin, cells_per_unit, nx, ny):
             cell_of(hi[i, 1], origin[1], cells_per_unit, ny))
 
 
-@njit(cache=True)
+@compiled
 def bin_boxes(lo, hi, origin, cells_per_unit, nx, ny):
     """Counting-sort the boxes into the cells they overlap.
 
@@ -116,7 +116,7 @@ def bin_boxes(lo, hi, origin, cells_per_unit, nx, ny):
     return cell_start, cell_boxes
 
 
-@njit(cache=True)
+@compiled
 def grid_pairs(lo, hi, origin, cells_per_unit, nx, ny, cell_start, cell_boxes):
     """Overlapping pairs among boxes sharing a cell, each reported once.
 
@@ -144,7 +144,7 @@ def grid_pairs(lo, hi, origin, cells_per_unit, nx, ny, cell_start, cell_boxes):
     return pairs[:count]
 
 
-@njit(cache=True)
+@compiled
 def cell_bounds(origin, cell_size, cells_per_unit, n_cells, upper):
     """The extent of each column (or row) of the grid, as cell_of sees it.
 
@@ -177,7 +177,7 @@ def cell_bounds(origin, cell_size, cells_per_unit, n_cells, upper):
     return starts, ends
 
 
-@njit(cache=True)
+@compiled
 def grid_query(lo, hi, origin, cells_per_unit, nx, ny, cell_start, cell_boxes,
                qx0, qy0, qx1, qy1):
     """Boxes overlapping the query box [qx0, qx1] x [qy0, qy1], each once.

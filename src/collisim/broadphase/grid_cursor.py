@@ -16,8 +16,8 @@ not once per ray: allocating them took most of a short walk's time.
 from collections import namedtuple
 
 import numpy as np
-from numba import njit
 
+from ..core.compiling import compiled
 from ._rays import ray_box_entry
 from .grid_walk import first_slab, slab_times, travel_axis
 
@@ -35,7 +35,7 @@ def cell_bounds_both_ways(column_starts, column_ends, row_starts, row_ends) -> C
     return CellBounds(columns, rows, mirrored_columns, mirrored_rows)
 
 
-@njit(cache=True, inline="always")
+@compiled(inline="always")
 def travel(bounds, mirrored, o, u):
     """One axis in the order the ray meets its cells, as travel_axis gives it: the starts and
     ends, and the ray's coordinate and direction (>= 0) along it."""
@@ -44,7 +44,7 @@ def travel(bounds, mirrored, o, u):
     return mirrored[0], mirrored[1], -o, -u
 
 
-@njit(cache=True)
+@compiled
 def begin_walk(bounds, ray, limit):
     """A cursor for the ray over the grid: (walk, position) for next_cell.
 
@@ -65,7 +65,7 @@ def begin_walk(bounds, ray, limit):
     return walk, (first_slab(x_ends, px, vx, start) - 1, first_slab(y_ends, py, vy, start), ny, -np.inf)
 
 
-@njit(cache=True)
+@compiled
 def next_cell(walk, position, limit):
     """The next cell the ray meets no later than limit: (column, row, position), column and row
     in the grid's own numbering, or column -1 when the walk is over. limit may shrink between

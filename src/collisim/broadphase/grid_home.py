@@ -26,10 +26,9 @@ The pairs are the boxes' original indices (i < j), in cell order: the step sorts
 """
 
 import numpy as np
-from numba import njit
 
 from ..core.arrays import grown
-from ..core.compiling import kernel
+from ..core.compiling import compiled, kernel
 from ._common import boxes_overlap
 from .grid import cell_of
 
@@ -40,7 +39,7 @@ FITS = 1.0 - 2.0 ** -20   # widest box / cell width at most this: the home-cell 
 WIDEST_CELL = 2.0         # cells wider than this many of the grid's own: file boxes in grid.py's way
 
 
-@njit(cache=True, fastmath={"nnan", "nsz", "reassoc"})
+@compiled(fastmath={"nnan", "nsz", "reassoc"})
 def home_cells_per_unit(lo, hi, finest, cells_per_unit):
     """1 / the cell width for home-cell filing: cells as wide as the widest box (over FITS), the
     fewer boxes a box is tested against the better, but no narrower than 1 / finest (the
@@ -81,7 +80,7 @@ def home_cell(lo, i, origin, per_unit, nx, ny):
             + cell_of(lo[i, 1], origin[1], per_unit, ny) + 1)
 
 
-@njit(cache=True)
+@compiled
 def home_grid_pairs(lo, hi, origin, per_unit, nx, ny, count, start, ids, cell_lo, cell_hi, room):
     """Every pair of overlapping boxes lo, hi (n, 2) once, as original indices (k, 2), i < j,
     in cell order, for cells of 1 / per_unit (home_cells_per_unit) in an nx x ny grid.
@@ -125,7 +124,7 @@ def home_grid_pairs(lo, hi, origin, per_unit, nx, ny, count, start, ids, cell_lo
     return pairs[:found]
 
 
-@njit(cache=True)
+@compiled
 def scan_cells(cell_lo, cell_hi, ids, start, count, a, n, column, origin, per_unit, nx, ny, pairs, found):
     """The overlapping pairs of boxes a, a + 1, ... < n (in cell order: home_grid_pairs) into pairs
     from row `found` on, until a box's tests might not fit. Returns (the next box, found).

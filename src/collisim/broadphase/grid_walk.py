@@ -29,12 +29,12 @@ max_distance or where it leaves the grid.
 """
 
 import numpy as np
-from numba import njit
 
+from ..core.compiling import compiled
 from ._rays import crossing, hits_in_run, new_hit_buffers, ray_box_entry
 
 
-@njit(cache=True)
+@compiled
 def travel_axis(starts, ends, o, u):
     """One axis as the ray sees it: the cells' starts and ends (n,) in the
     order the ray meets them, and its coordinate and direction (>= 0) along
@@ -45,7 +45,7 @@ def travel_axis(starts, ends, o, u):
     return -ends[::-1], -starts[::-1], -o, -u
 
 
-@njit(cache=True)
+@compiled
 def slab_times(starts, ends, o, u, k):
     """(enter, leave): when the ray is inside slab k, starts[k] <= coordinate
     <= ends[k], on a travel axis (u >= 0). enter > leave if never."""
@@ -56,7 +56,7 @@ def slab_times(starts, ends, o, u, k):
     return np.inf, -np.inf
 
 
-@njit(cache=True)
+@compiled
 def first_slab(ends, o, u, t):
     """The first slab (in travel order) the ray is still in at time t: the
     first k it leaves at or after t. ends (n,) on a travel axis; a binary
@@ -72,7 +72,7 @@ def first_slab(ends, o, u, t):
     return low
 
 
-@njit(cache=True)
+@compiled
 def grid_raycast(lo, hi, cell_start, cell_boxes, column_starts, column_ends, row_starts, row_ends,
                  ox, oy, ux, uy, max_distance):
     """Boxes the ray meets, testing only those filed in the cells it passes.

@@ -39,15 +39,15 @@ max_distance, nearer child first.
 """
 
 import numpy as np
-from numba import njit
 
 from ..core.arrays import grown
+from ..core.compiling import compiled
 from ._common import (BroadPhase, bounding_box, boxes_overlap, check_boxes, check_int_option, copy_row, gathered_boxes,
                       new_pair_buffer, overlapping_in_run, push_pair, row_centre, select_smallest)
 from ._rays import farther_then_nearer, hits_in_run, new_hit_buffers, ray_box_entry
 
 
-@njit(cache=True)
+@compiled
 def median_split_value(rows, axis, keys):
     """Split line on `axis` with the lower half of the centres of box rows (m, 4), m >= 2,
     (gathered_boxes) on its left: halfway between the two middle centres. keys: (>= m,)
@@ -61,7 +61,7 @@ def median_split_value(rows, axis, keys):
     return 0.5 * keys[:half].max() + 0.5 * keys[half]
 
 
-@njit(cache=True)
+@compiled
 def side_counts(rows, axis, value):
     """How many box rows (m, 4) go left (min < value) and right (max >= value); straddlers
     go both ways."""
@@ -72,7 +72,7 @@ def side_counts(rows, axis, value):
     return left, right
 
 
-@njit(cache=True)
+@compiled
 def choose_split(rows, depth, leaf_size, max_depth, keys):
     """Decide whether and how to split a node.
 
@@ -92,7 +92,7 @@ def choose_split(rows, depth, leaf_size, max_depth, keys):
     return -1, 0.0, m, m
 
 
-@njit(cache=True)
+@compiled
 def split_region(region, axis, value):
     """Left and right halves of region (x0, y0, x1, y1), cut at `value` on `axis`."""
     x0, y0, x1, y1 = region
@@ -101,7 +101,7 @@ def split_region(region, axis, value):
     return (x0, y0, x1, value), (x0, value, x1, y1)
 
 
-@njit(cache=True)
+@compiled
 def leaf_pairs(lo, hi, members, region, pairs, count):
     """Append the overlapping pairs of one leaf whose intersection's lower-left
     corner lies in the leaf's region [x0, x1) x [y0, y1)."""
@@ -118,7 +118,7 @@ def leaf_pairs(lo, hi, members, region, pairs, count):
     return pairs, count
 
 
-@njit(cache=True)
+@compiled
 def kdtree_pairs(lo, hi, leaf_size, max_depth):
     """Build the k-d tree and collect overlapping pairs from its leaves.
 
@@ -135,13 +135,13 @@ def kdtree_pairs(lo, hi, leaf_size, max_depth):
     return pairs[:count], node_axis.shape[0], depth
 
 
-@njit(cache=True)
+@compiled
 def build_kdtree(lo, hi, leaf_size, max_depth):
     """The k-d tree in flat arrays (grow_kdtree's first six), for box queries and ray casts."""
     return grow_kdtree(lo, hi, leaf_size, max_depth)[:6]
 
 
-@njit(cache=True)
+@compiled
 def grow_kdtree(lo, hi, leaf_size, max_depth):
     """Build the k-d tree into flat arrays.
 
@@ -224,7 +224,7 @@ def grow_kdtree(lo, hi, leaf_size, max_depth):
             node_count[:n_nodes], leaf_boxes[:n_leaf_boxes], node_region[:n_nodes], tree_depth)
 
 
-@njit(cache=True)
+@compiled
 def kdtree_query(lo, hi, node_axis, node_value, node_left, node_first, node_count, leaf_boxes,
                  qx0, qy0, qx1, qy1):
     """Boxes overlapping the query box [qx0, qx1] x [qy0, qy1] (tree from build_kdtree).
@@ -254,7 +254,7 @@ def kdtree_query(lo, hi, node_axis, node_value, node_left, node_first, node_coun
     return found[:count], visited, tested
 
 
-@njit(cache=True)
+@compiled
 def kdtree_raycast(lo, hi, node_axis, node_value, node_left, node_first, node_count, leaf_boxes,
                    x0, y0, x1, y1, ox, oy, ux, uy, max_distance):
     """Boxes the ray meets (tree from build_kdtree; x0, y0, x1, y1: the boxes'

@@ -24,8 +24,8 @@ each choice is cached apart.
 from collections import namedtuple
 
 import numpy as np
-from numba import njit
 
+from ..core.compiling import compiled
 from ._common import bounding_box
 from ._rays import farther_then_nearer, ray_box_entry
 from .bvh import BoundingVolumeHierarchy, build_bvh, node_entry
@@ -75,7 +75,7 @@ def bvh_rays(lo, hi) -> BVHRays:
 
 # ------------------------------------------------------------ the traversals
 
-@njit(cache=True)
+@compiled
 def brute_ray_closest(state, bodies, ray, best):
     """Every body, tested exactly."""
     for i in range(state.n):
@@ -83,7 +83,7 @@ def brute_ray_closest(state, bodies, ray, best):
     return best, state.n, state.n
 
 
-@njit(cache=True)
+@compiled
 def sweep_run(state, o, u):
     """Where the run of candidate boxes starts and ends (exclusive) in sweep order, and the
     step (+1 up the order, -1 down it). o, u: the ray's origin and direction on the sweep axis.
@@ -96,7 +96,7 @@ def sweep_run(state, o, u):
     return np.searchsorted(state.reach, o, side="left"), np.searchsorted(state.starts, o, side="right"), 1
 
 
-@njit(cache=True)
+@compiled
 def sweep_ray_closest(state, bodies, ray, best):
     """The run of boxes the ray's span on the sweep axis crosses, stopping at the limit.
 
@@ -117,7 +117,7 @@ def sweep_ray_closest(state, bodies, ray, best):
     return best, visited, visited
 
 
-@njit(cache=True)
+@compiled
 def grid_ray_closest(state, bodies, ray, best):
     """The cells along the ray, in order, until the next one starts beyond the limit."""
     ny = state.bounds.rows[0].shape[0]
@@ -133,7 +133,7 @@ def grid_ray_closest(state, bodies, ray, best):
                                 best, tested)
 
 
-@njit(cache=True)
+@compiled
 def kdtree_ray_closest(state, bodies, ray, best):
     """Depth first from the root region (the boxes' bounding box), nearer child first."""
     visited, tested = 1, 0
@@ -167,7 +167,7 @@ def kdtree_ray_closest(state, bodies, ray, best):
     return best, visited, tested
 
 
-@njit(cache=True)
+@compiled
 def bvh_ray_closest(state, bodies, ray, best):
     """Depth first from the root box, nearer child first."""
     visited, tested = 1, 0

@@ -16,8 +16,8 @@ broadphase/__init__.py's functions do for their callers.
 from collections import namedtuple
 
 import numpy as np
-from numba import njit
 
+from ..core.compiling import compiled
 from .brute import brute_force_pairs
 from .bvh import build_bvh, bvh_pairs
 from .grid import bin_boxes, grid_pairs
@@ -64,7 +64,7 @@ def brute_pairs(state, lo, hi):
     return brute_force_pairs(lo, hi)
 
 
-@njit(cache=True)
+@compiled
 def _sweep_axis(lo, hi):
     """The axis (0 or 1) along which the box centres have the larger variance."""
     n = lo.shape[0]

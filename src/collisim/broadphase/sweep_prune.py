@@ -40,8 +40,8 @@ run of boxes for which that is possible, and only those are tested.
 import math
 
 import numpy as np
-from numba import njit
 
+from ..core.compiling import compiled
 from ._common import BroadPhase, box_meets_query, check_boxes, new_pair_buffer, push_index, put_pair, reserve_pairs
 from ._rays import crossing, new_hit_buffers, push_hit, ray_box_entry
 
@@ -55,7 +55,7 @@ def sweep_axis(lo: np.ndarray, hi: np.ndarray) -> int:
     return int(np.var(lo[:, 1] + hi[:, 1]) > np.var(lo[:, 0] + hi[:, 0]))
 
 
-@njit(cache=True)
+@compiled
 def sweep(lo, hi, order, axis):
     """The pairs whose intervals on `axis` overlap (touching counts): the video's candidates.
 
@@ -81,7 +81,7 @@ def sweep(lo, hi, order, axis):
     return pairs[:count]
 
 
-@njit(cache=True)
+@compiled
 def repair_order(keys, order, max_shifts):
     """Insertion-sort `order` in place by (keys[i], i).
 
@@ -106,7 +106,7 @@ def repair_order(keys, order, max_shifts):
     return shifts
 
 
-@njit(cache=True)
+@compiled
 def sorted_intervals(lo, hi, order, axis):
     """The boxes' intervals on `axis` in sweep order, for binary searches.
 
@@ -135,7 +135,7 @@ def sorted_intervals(lo, hi, order, axis):
     return starts, reach
 
 
-@njit(cache=True)
+@compiled
 def sweep_query(lo, hi, order, axis, qx0, qy0, qx1, qy1):
     """Boxes overlapping the query box [qx0, qx1] x [qy0, qy1].
 
@@ -155,7 +155,7 @@ def sweep_query(lo, hi, order, axis, qx0, qy0, qx1, qy1):
     return found[:count], max(end - first, 0)
 
 
-@njit(cache=True)
+@compiled
 def first_position(values, o, u, max_distance, within):
     """First p at which the ray reaches values[p] within max_distance
     (within=True) or only beyond it (within=False): crossing(o, u, values[p])
@@ -171,7 +171,7 @@ def first_position(values, o, u, max_distance, within):
     return low
 
 
-@njit(cache=True)
+@compiled
 def sweep_raycast(lo, hi, order, axis, ox, oy, ux, uy, max_distance):
     """Boxes the ray meets, among those whose sweep-axis interval its span crosses.
 

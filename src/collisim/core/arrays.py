@@ -1,10 +1,11 @@
 """Growable arrays for compiled kernels that do not know their output's size in advance
 (candidate pairs, contacts, collision logs): double the capacity when full."""
 import numpy as np
-from numba import njit
+
+from .compiling import compiled
 
 
-@njit(cache=True)
+@compiled
 def grown(array, size, used=-1):
     """`array` if it has at least `size` rows, else a copy with room for max(size, twice as many).
     Only the first `used` rows are copied (default: all), so a buffer that reserves far more than
@@ -17,7 +18,7 @@ def grown(array, size, used=-1):
     return bigger
 
 
-@njit(cache=True)
+@compiled
 def copy_rows(source, target, count):
     """target[:count] = source[:count], for C-contiguous arrays whose rows have the same shape,
     as a plain loop: numba compiles a slice assignment with the message it raises when the shapes

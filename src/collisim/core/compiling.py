@@ -1,6 +1,16 @@
 """How collisim's kernels compile, and where numba keeps them: numba as published.
 
-`kernel`: numba.njit(cache=True, error_model="numpy", _nrt=False), for the functions run at
+`compiled`: numba.njit(cache=True) for collisim's kernels, in two forms. Compiled code calls the
+function as an overload (numba.extending.overload, as numba's own library functions are
+written): compiled without the CPython and C wrappers a function needs only to be called from
+Python, as numba compiles every overload. Most kernels are called from compiled code alone, and
+those wrappers were a fifth of a first frame's compiling (docs/benchmarks.md). Called from
+Python, the kernel is compiled once more, on that first call, with its wrappers, into a cache
+entry of its own (a copy of the function named NAME_from_python: numba keys a cache entry to the
+function's name and signature, not to how it was compiled, and an entry without the wrapper,
+called from Python, would crash the process).
+
+`kernel`: compiled(error_model="numpy", _nrt=False), for the functions run at
 every contact or event, which allocate nothing and return no array. Division by zero gives inf
 or nan as in NumPy, as everywhere in the engine, instead of raising. `_nrt=False` compiles them
 without numba's runtime: numba counts a reference to every array a compiled function is handed,
@@ -40,10 +50,12 @@ import functools
 import hashlib
 import os
 import threading
+import types
 
 import numba
 from numba import njit
 from numba.core import event
+from numba.extending import overload
 
 try:
     import fcntl
@@ -53,14 +65,59 @@ except ImportError:   # Windows: no file locks here, so saves do not take turns 
 PACKAGE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))   # collisim/
 
 
+def compiled(function=None, **options):
+    """numba.njit(cache=True, **options), compiled without numba's wrappers where compiled code
+    calls it, and with them where Python does (the module docstring). As a decorator:
+    @compiled or @compiled(option=value, ...)."""
+    if function is None:
+        return functools.partial(compiled, **options)
+    options = dict(cache=True, **options)
+    from_python = []   # the dispatcher Python calls, made at the first call
+    made = threading.Lock()
+
+    @functools.wraps(function)
+    def call_from_python(*args, **kwargs):
+        if not from_python:
+            with made:
+                if not from_python:
+                    from_python.append(njit(**options)(_copy_named(function, "_from_python")))
+        return from_python[0](*args, **kwargs)
+
+    overload(call_from_python, jit_options=for_compiled_code(options), strict=False)(
+        lambda *args, **kwargs: function)
+    call_from_python.function = function   # what compiled code compiles (engine/warm.py)
+    call_from_python.options = options
+    return call_from_python
+
+
+def for_compiled_code(options: dict) -> dict:
+    """The jit options of a kernel where compiled code calls it: without the wrappers."""
+    return dict(options, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+
+
+def _copy_named(function, suffix: str):
+    """function under a name of its own (its cache entries apart from the function's)."""
+    copy = types.FunctionType(function.__code__, function.__globals__, function.__name__ + suffix,
+                              function.__defaults__, function.__closure__)
+    copy.__qualname__ = function.__qualname__ + suffix
+    copy.__module__, copy.__kwdefaults__ = function.__module__, function.__kwdefaults__
+    return copy
+
+
+def compile_for_compiled_code(kernel, arguments) -> None:
+    """Compile (or load from the cache) `kernel` as compiled code calls it with `arguments`
+    (engine/warm.py): into the cache entries its compiled callers load."""
+    njit(**for_compiled_code(kernel.options))(kernel.function).compile(tuple(numba.typeof(a) for a in arguments))
+
+
 def kernel(function):
-    """numba.njit(cache=True, error_model="numpy", _nrt=False) (the module docstring)."""
-    return njit(cache=True, error_model="numpy", _nrt=False)(function)
+    """compiled(error_model="numpy", _nrt=False) (the module docstring)."""
+    return compiled(function, error_model="numpy", _nrt=False)
 
 
 def inlined(function):
     """A kernel inlined by LLVM into every compiled caller (the module docstring)."""
-    return njit(cache=True, error_model="numpy", _nrt=False, forceinline=True)(function)
+    return compiled(function, error_model="numpy", _nrt=False, forceinline=True)
 
 
 @functools.lru_cache(maxsize=None)

@@ -31,11 +31,11 @@ from __future__ import annotations
 from collections import namedtuple
 
 import numpy as np
-from numba import njit
 
 from ..core.arrays import copy_rows
 from ..broadphase.registry import AUTO, choose, step_state
 from ..broadphase.step import candidate_pairs
+from ..core.compiling import compiled
 from ..core.geometry.polygon import place_polygons
 from ..core.kinds import CIRCLE, MAP, N_WALLS, PAIR, SEGMENT, SUPPORT, WALL
 from .hierarchy import level_scratch, record_levels
@@ -100,14 +100,14 @@ def new_work(bodies) -> Work:
                 np.zeros(n, np.bool_), new_fast(n), level_scratch(bodies), np.zeros(5, np.int64))
 
 
-@njit(cache=True)
+@compiled
 def _lap(phase_cycles, phase, since):
     now = cycles()
     phase_cycles[phase] += now - since
     return now
 
 
-@njit(cache=True)
+@compiled
 def _margins_and_bounds(bodies, dt, margin, lo, hi):
     """Each body's speculative margin (n,) (response/rows.py: margins) and its bounding box
     (n, 2) lo, hi from its shape (circles: centre ± radius) grown by that margin, in one pass
@@ -134,7 +134,7 @@ def bounding_boxes(world, positions, velocities, fps: float, substeps: int = 1):
     return lo, hi
 
 
-@njit(cache=True)
+@compiled
 def sort_pairs(pairs, n):
     """Pairs (k, 2) with i < j, each once, in lexicographic (i, j) order: the canonical order
     in which the response treats contacts, whichever broad phase found them. Pairs already in
@@ -147,7 +147,7 @@ def sort_pairs(pairs, n):
     return pairs
 
 
-@njit(cache=True)
+@compiled
 def _contact_phases(bodies, statics, broad, sleep, dt, margin, lo, hi, vertices, held, found, rows, prior, fast,
                     phase_cycles, t):
     """broad and narrow: the step's contact rows, from the state at its start. vertices (V, 2)
@@ -204,7 +204,7 @@ def _contact_phases(bodies, statics, broad, sleep, dt, margin, lo, hi, vertices,
     return found, rows, count, pairs, touching, t
 
 
-@njit(cache=True)
+@compiled
 def _log_contacts(rows, count, log, now, frame_collisions, the_map):
     """Impacts into the log, counted: between bodies (PAIR), of a body on a wall (WALL, j its
     side), a segment (SEGMENT, j the segment) or the map (MAP, j -1: the static numbered
@@ -229,7 +229,7 @@ def _log_contacts(rows, count, log, now, frame_collisions, the_map):
     return log
 
 
-@njit(cache=True, nogil=True)   # engine/ahead.py runs blocks on a thread of their own
+@compiled(nogil=True)   # engine/ahead.py runs blocks on a thread of their own
 def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log, memory, contacts, work,
                phase_cycles):
     """Advance bodies in place by out's frame count, each frame `substeps` steps of dt, filling

@@ -2,10 +2,9 @@
 from collections import namedtuple
 
 import numpy as np
-from numba import njit
 
-from ..core.compiling import kernel
 from ..core.arrays import grown
+from ..core.compiling import compiled, kernel
 from ..model.trajectory import Events
 
 EventLog = namedtuple("EventLog", ["time", "kind", "i", "j", "impulse", "point", "size"])
@@ -13,14 +12,14 @@ EventLog.__doc__ = """Collisions as appended: time, impulse (c,) float64; kind (
 point (c, 2); size (1,) int64 how many of the c rows are filled. Fields as in Events."""
 
 
-@njit(cache=True)
+@compiled
 def new_log(capacity):
     """An empty log with room for `capacity` collisions."""
     return EventLog(np.empty(capacity), np.empty(capacity, np.int8), np.empty(capacity, np.intp),
                     np.empty(capacity, np.intp), np.empty(capacity), np.empty((capacity, 2)), np.zeros(1, np.int64))
 
 
-@njit(cache=True)
+@compiled
 def with_room(log, extra):
     """The log with room for `extra` more collisions: the same one, or one with larger arrays.
 

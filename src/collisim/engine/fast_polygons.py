@@ -35,11 +35,10 @@ import math
 from collections import namedtuple
 
 import numpy as np
-from numba import njit
 from numba.core import types
 from numba.extending import overload
 
-from ..core.compiling import kernel
+from ..core.compiling import compiled, kernel
 from ..core.kinds import CIRCLE, POLYGON, WALL
 from .eventlog import append, with_room
 
@@ -170,7 +169,7 @@ def _outpaced(polygons, bodies, margin, dt, asleep):
     return lambda polygons, bodies, margin, dt, asleep: pair_outpaced(bodies, margin, dt, asleep)
 
 
-@njit(cache=True)
+@compiled
 def pair_outpaced(bodies, margin, dt, asleep):
     """outpaced: a body moving farther than its margin, against every other body."""
     b = bodies
@@ -236,7 +235,7 @@ def _wall(box, wall):
     return axis, box[axis + 2 * (wall % 2)], 1.0 if wall % 2 == 0 else -1.0
 
 
-@njit(cache=True, error_model="numpy")
+@compiled(error_model="numpy")
 def _advance(state, accel, t):
     """Free flight of state (x, y, vx, vy, θ, ω) for t, in place (integrate.py's step)."""
     half = 0.5 * t * t
@@ -247,7 +246,7 @@ def _advance(state, accel, t):
     state[4] += state[5] * t
 
 
-@njit(cache=True, error_model="numpy")
+@compiled(error_model="numpy")
 def _earliest(state, accel, corners, box, longest, touch, slow):
     """(the next advance: the first root of every vertex's bound against every wall, the wall
     met (-1 if none: a vertex touching it and moving into it faster than `slow`), and the
@@ -285,7 +284,7 @@ def _point_rate(state, arm_x, arm_y, axis, inward):
     return inward * (state[2 + axis] + (-state[5] * arm_y if axis == 0 else state[5] * arm_x))
 
 
-@njit(cache=True, error_model="numpy")
+@compiled(error_model="numpy")
 def _impact(state, mass, inertia, arm_x, arm_y, axis, inward, restitution, friction):
     """Newton's impulse with restitution, and Coulomb friction, at the point at arm on a wall;
     in place. Returns the normal impulse."""
@@ -311,7 +310,7 @@ def _kick(state, mass, inertia, dx, dy, turn, impulse):
     state[5] += impulse * turn / inertia
 
 
-@njit(cache=True, error_model="numpy")
+@compiled(error_model="numpy")
 def _put_back(state, corners, box):
     """Every vertex back inside the walls, and the velocity into a wall touched removed; in place."""
     cos, sin = math.cos(state[4]), math.sin(state[4])
@@ -327,7 +326,7 @@ def _put_back(state, corners, box):
                 state[2 + axis] = 0.0
 
 
-@njit(cache=True, error_model="numpy")
+@compiled(error_model="numpy")
 def fly(bodies, i, start, box, restitution, friction, rest_speed, keep, dt, log, now, frame_collisions):
     """Body i's step of dt from start (x, y, vx, vy, θ, ω; kept before the step moved it, and
     used up) against the walls, in place: see the module. A vertex meeting a wall slower than
@@ -388,7 +387,7 @@ def _segment_reach(polygons, bodies, dt, margin, segments, out):
     return reach
 
 
-@njit(cache=True)
+@compiled
 def note_outpaced(counts, frame):
     """Count a step outpaced (Fast.outpaced), keeping the frame of the first."""
     if counts[0] == 0:

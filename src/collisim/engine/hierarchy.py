@@ -31,13 +31,12 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 from numba.core import types
 from numba.extending import overload
 
 from ..broadphase import find_pairs
 from ..broadphase.step import candidate_pairs
-from ..core.compiling import kernel
+from ..core.compiling import compiled, kernel
 from ..core.geometry.polygon import oriented_box, place_polygons, polygon_bounds
 from ..core.kinds import CAPSULE, CIRCLE, POLYGON
 from ..model.trajectory import NOT_COUNTED
@@ -49,7 +48,7 @@ SLACK = 1e-9         # polygons' volumes grown by this share of their bounding r
 XMIN, YMIN, XMAX, YMAX, CX, CY, UX, UY, HALF_W, HALF_H = range(10)
 
 
-@njit(cache=True, error_model="numpy")
+@compiled(error_model="numpy")
 def frame_boxes(shapes, body_vertices, vertex_start):
     """Each polygon's oriented box in its body frame (n, 5): centre x, y, half extents, the angle
     of its half-width axis (geometry/polygon.py: oriented_box; zeros for circles). A body's box
@@ -65,7 +64,7 @@ def frame_boxes(shapes, body_vertices, vertex_start):
     return boxes
 
 
-@njit(cache=True, error_model="numpy")
+@compiled(error_model="numpy")
 def body_volumes(shapes, positions, angles, radii, boxes, vertex_start, vertices, volumes):
     """Each body's box and oriented box in the world, into volumes (n, 10) (columns above).
     boxes (n, 5): frame_boxes; vertices (V, 2): the polygons' world vertices at these poses
@@ -133,7 +132,7 @@ def _oriented_overlap(volumes, i, j):
     return True
 
 
-@njit(cache=True, error_model="numpy")
+@compiled(error_model="numpy")
 def passes(level, shapes, positions, radii, vertices, start, volumes, i, j):
     """Does pair (i, j) pass `level` (an index into LEVELS) on its own?"""
     if level == 0:
@@ -169,7 +168,7 @@ def _level(shapes, positions, radii, vertices, start, volumes, i, j):
     return level
 
 
-@njit(cache=True, error_model="numpy")
+@compiled(error_model="numpy")
 def pair_levels(shapes, positions, radii, vertices, start, volumes, pairs, levels):
     """Each pair's level (k,): how many tests it passes down the funnel, stopping at the first
     it fails. Returns levels."""
@@ -178,7 +177,7 @@ def pair_levels(shapes, positions, radii, vertices, start, volumes, pairs, level
     return levels
 
 
-@njit(cache=True, error_model="numpy")
+@compiled(error_model="numpy")
 def each_level(shapes, positions, radii, vertices, start, volumes, pairs, out):
     """Every level tested on its own for each pair: out (k, 4) bool. Returns out."""
     for p in range(pairs.shape[0]):
@@ -221,7 +220,7 @@ def _record_levels(scratch, bodies, pairs, vertices, touching, counts):
     return record
 
 
-@njit(cache=True, error_model="numpy")
+@compiled(error_model="numpy")
 def circle_pairs(bodies, broad):
     """The pairs (k, 2) of the bodies' state (the engine's Bodies) whose bounding circles' boxes
     overlap, from the engine's broad-phase state."""
@@ -235,7 +234,7 @@ def circle_pairs(bodies, broad):
     return candidate_pairs(broad, lo, hi) if n >= 2 else np.empty((0, 2), np.intp)
 
 
-@njit(cache=True, error_model="numpy")
+@compiled(error_model="numpy")
 def count_levels(bodies, pairs, vertices, counts):
     """counts (4,) <- how many pairs of the bodies' state (the engine's Bodies) pass each level,
     over pairs (k, 2) that include every pair whose bounding circles overlap (circle_pairs, or
@@ -249,7 +248,7 @@ def count_levels(bodies, pairs, vertices, counts):
                  np.empty((b.positions.shape[0], 10)), touching, counts)
 
 
-@njit(cache=True, error_model="numpy")
+@compiled(error_model="numpy")
 def count_placed(bodies, pairs, vertices, boxes, volumes, touching, counts):
     """count_levels, given the polygons' world vertices (V, 2) at this state, their frame_boxes
     (n, 5), room for their volumes (n, 10), and whether each pair's shapes touch (k,)."""

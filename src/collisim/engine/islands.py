@@ -44,9 +44,8 @@ asleep log them in order and the block's events need no sorting.
 from collections import namedtuple
 
 import numpy as np
-from numba import njit
 
-from ..core.compiling import kernel
+from ..core.compiling import compiled, kernel
 from ..core.geometry.vector import length
 from ..core.kinds import CIRCLE, SUPPORT
 from ..narrowphase.manifold import body_pair_touch
@@ -95,7 +94,7 @@ def _root(parent, i):
     return i
 
 
-@njit(cache=True)
+@compiled
 def _islands(parent, rows, count, n):
     """parent (n,) <- islands of the rows' pairs; each island's root is its smallest body."""
     for i in range(n):
@@ -115,7 +114,7 @@ def _drift(sleep, bodies, i):
     return max(length(v[i, 0] - since[i, 0], v[i, 1] - since[i, 1]), turned)
 
 
-@njit(cache=True)
+@compiled
 def _count_still(sleep, bodies, dt):
     """Add dt to the still time of each awake body slower than its rest speed (rim included)
     whose velocity has not drifted since it became still (see the module); start the still time
@@ -144,7 +143,7 @@ def _carried(rows, r, parent, least):
     return rows.j[r] < 0 and rows.impulse[r] > 0.0 and least[_root(parent, rows.i[r])] >= SLEEP_TIME
 
 
-@njit(cache=True)
+@compiled
 def fall_asleep(sleep, bodies, rows, count, dt):
     """After a step whose contact rows (rows[:count]) were solved: count each body's still time,
     and put to sleep every island whose bodies have all been still for SLEEP_TIME, keeping its
@@ -201,7 +200,7 @@ def all_still(sleep, n):
     return True
 
 
-@njit(cache=True)
+@compiled
 def _wake_island(sleep, bodies, island):
     """Wake every body of a sleeping island, and drop its carried support."""
     for i in range(bodies.positions.shape[0]):
@@ -217,7 +216,7 @@ def _wake_island(sleep, bodies, island):
     sleep.carried_count[0] = kept
 
 
-@njit(cache=True)
+@compiled
 def wake_near(sleep, bodies, vertices, margin, pairs, polygons):
     """Before a step's contacts are found: wake the island of every sleeper that a candidate
     pair (k, 2) puts within reach of an awake body (and so on, as woken bodies reach further
@@ -236,7 +235,7 @@ def wake_near(sleep, bodies, vertices, margin, pairs, polygons):
     return woke
 
 
-@njit(cache=True)
+@compiled
 def sleepers_touching(sleep, bodies, vertices, pairs, touching, prior_pairs, prior_touching, polygons):
     """touching (k,) <- whether the shapes of each candidate pair of two sleepers touch (pairs of
     sleepers have no manifold: response/rows.py: pair_manifolds): as the contact phase before
@@ -269,7 +268,7 @@ def _sleeps(asleep, key, n, statics):
     return asleep[i] and (other >= n or asleep[other])
 
 
-@njit(cache=True)
+@compiled
 def keep_sleepers(sleep, memory, prior, n, statics):
     """The warm-start memory (response/warmstart.py) of this step's rows, with the contacts of
     sleepers kept from the memory before: a woken island starts its solve from the impulses it
@@ -299,7 +298,7 @@ def keep_sleepers(sleep, memory, prior, n, statics):
     return Memory(keys, impulses, frictions)
 
 
-@njit(cache=True)
+@compiled
 def log_carried(sleep, log, first, steps, dt):
     """The support sleepers give the walls and segments they rest on, into the log (SUPPORT), at
     each of `steps` steps of dt from step number `first` (at time first · dt): every step of a

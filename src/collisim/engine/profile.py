@@ -14,7 +14,8 @@ import time
 import numpy as np
 from llvmlite import ir
 from numba.core import cgutils, types
-from numba import njit
+
+from ..core.compiling import compiled
 from numba.extending import intrinsic
 
 # The discrete step's phases, in the order they run.
@@ -31,7 +32,7 @@ def cycles(typingctx):
     return types.int64(), codegen
 
 
-@njit(cache=True)
+@compiled
 def read_cycles():
     """The cycle counter, read from Python."""
     return cycles()

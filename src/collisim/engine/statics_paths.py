@@ -10,12 +10,11 @@ never takes. A world with segments or a map compiles its own step, cached on its
 given anyway (no_map_field(), an empty index) takes the full path with its run-time checks.
 """
 import numpy as np
-from numba import njit
 from numba.core import types
 from numba.extending import overload
 
 from ..core.arrays import copy_rows, grown
-from ..core.compiling import kernel
+from ..core.compiling import compiled, kernel
 from ..core.geometry.box import centre_range
 from ..core.geometry.vector import length
 from ..core.kinds import CIRCLE, MAP, N_WALLS, SEGMENT, WALL
@@ -273,7 +272,7 @@ def _settle_in_map(field, positions, radii):
     return push_all_out
 
 
-@njit(cache=True)
+@compiled
 def statics_scratch(n, m):
     """Buffers for statics_phase: segment contacts (room for one a body; grown when a step has
     more), near segments (m,), the positions (n, 2) at the start of the step (the map
@@ -285,7 +284,7 @@ def statics_scratch(n, m):
             np.zeros((n, 5), np.bool_))
 
 
-@njit(cache=True)
+@compiled
 def mark_held(rows, count, held, the_map):
     """held (n, 5): the axes on which a wall row held each body this step, and whether a
     segment's row (HELD_BY_SEGMENT) or the map's (the static numbered the_map: HELD_BY_MAP) held
@@ -297,7 +296,7 @@ def mark_held(rows, count, held, the_map):
             held[rows.i[r], wall // 2 if kind == WALL else HELD_BY_MAP if kind == MAP else HELD_BY_SEGMENT] = True
 
 
-@njit(cache=True)
+@compiled
 def statics_phase(bodies, statics, scratch, dt, log, now, frame_collisions):
     """Segments, then walls, in place; collisions added to frame_collisions (3,: wall, pair,
     segment) and log. scratch from statics_scratch. Returns the log."""
@@ -325,7 +324,7 @@ def statics_phase(bodies, statics, scratch, dt, log, now, frame_collisions):
     return log
 
 
-@njit(cache=True)
+@compiled
 def _log_wall(log, now, positions, box, i, axis, side, impulse):
     """Log body i's bounce off wall 2·axis + side, at the wall beside the body."""
     on_wall, along = box[axis + 2 * side], positions[i, 1 - axis]

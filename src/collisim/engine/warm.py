@@ -7,16 +7,17 @@ compiles the later kernels for the same world while the first works through the 
 saves them into the kernel cache (core/compiling.py: processes compile side by side and take
 turns to save), where the first finds them when it gets there and loads them instead.
 
-`compile_step_tail` calls each of those kernels from Python on the stepper's own state, as
-run_frames calls them, with no contact rows (count 0): each runs no work, and compiles for
-exactly the types run_frames hands it (tests/test_warm.py checks that the run compiles none of
-them again). The calls are in the reverse of run_frames' order, so the two processes meet in
+`compile_step_tail` compiles each of those kernels as compiled code calls it
+(core/compiling.compile_for_compiled_code) for the types of the stepper's own state, as
+run_frames hands it, with no contact rows (count 0) (tests/test_warm.py checks that the run
+compiles none of them again). The calls are in the reverse of run_frames' order, so the two processes meet in
 the middle.
 """
 from __future__ import annotations
 
 import numpy as np
 
+from ..core.compiling import compile_for_compiled_code
 from ..response.rows import new_rows
 from ..response.solver import add_contact_motion, collide, come_to_rest, solve_positions, solve_velocities
 from ..response.warmstart import recall, remember
@@ -58,4 +59,4 @@ def step_tail_calls(world, fps: float, substeps: int = 1, broadphase: str = "aut
 def compile_step_tail(world, fps: float, substeps: int = 1, broadphase: str = "auto") -> None:
     """Compile (or load from the cache) the kernels of step_tail_calls, in its order."""
     for kernel, arguments in step_tail_calls(world, fps, substeps, broadphase):
-        kernel(*arguments)
+        compile_for_compiled_code(kernel, arguments)

@@ -19,11 +19,10 @@ Bodies' shapes: shapes (n,) kinds; positions (n, 2); radii (n,) (a polygon's bou
 vertices (V, 2) the polygons' world vertices this step, body i's in vertices[start[i]:start[i+1]].
 """
 import numpy as np
-from numba import njit
 from numba.core import types
 from numba.extending import overload
 
-from ..core.compiling import kernel
+from ..core.compiling import compiled, kernel
 from ..core.kinds import CAPSULE, CIRCLE, POLYGON
 from .capsules import (capsule_pair_manifold, capsule_pair_swept_gap, capsule_pair_touch, capsule_segment_manifold,
                        capsule_wall_manifold)
@@ -36,7 +35,7 @@ NONE = (1.0, 0.0, 0, -np.inf, 0.0, 0.0, 0.0, 0.0, 0.0)
 TOUCH = 1e-12   # of the coordinates' size: past any rounding of a shape moved to touch another
 
 
-@njit(cache=True)
+@compiled
 def _given_back(m, gap):
     """Manifold m taken with the second shape moved `gap` closer, for the shapes where they are."""
     nx, ny, count, d0, px0, py0, d1, px1, py1 = m
@@ -45,7 +44,7 @@ def _given_back(m, gap):
             py1 + half * ny)
 
 
-@njit(cache=True)
+@compiled
 def _flipped(m):
     """Manifold m with its two shapes swapped: the normal reversed."""
     nx, ny, count, d0, px0, py0, d1, px1, py1 = m
@@ -131,7 +130,7 @@ def shapes_touch(shapes, positions, radii, vertices, start, i, j):
     return placed_polygons_touch(vertices, start, i, j)   # no slices: they cost more than the test
 
 
-@njit(cache=True)
+@compiled
 def polygon_wall_manifold(vertices, start, i, box, wall, margin):
     """The manifold of polygon body i and one box wall (normal into the wall), with speculative
     points up to `margin` from it."""
@@ -142,7 +141,7 @@ def polygon_wall_manifold(vertices, start, i, box, wall, margin):
     return _given_back(m, margin)
 
 
-@njit(cache=True)
+@compiled
 def polygon_segment_manifold(vertices, start, i, segments, k, margin):
     """The manifold of polygon body i and segment k of segments (m, 4) (normal from the polygon
     toward the segment), with speculative points up to `margin` apart; count 0 if farther.
@@ -167,7 +166,7 @@ def polygon_segment_manifold(vertices, start, i, segments, k, margin):
     return _given_back(touching, back)
 
 
-@njit(cache=True)
+@compiled
 def shape_wall_manifold(shapes, radii, vertices, start, i, box, wall, margin):
     """The manifold of body i, a polygon or a capsule, and one box wall (normal into the wall);
     none for a circle (the walls bounce circles themselves: engine/statics_paths.py)."""
@@ -178,7 +177,7 @@ def shape_wall_manifold(shapes, radii, vertices, start, i, box, wall, margin):
     return NONE
 
 
-@njit(cache=True)
+@compiled
 def shape_segment_manifold(shapes, radii, vertices, start, i, segments, k, margin):
     """The manifold of body i, a polygon or a capsule, and segment k (normal from the body
     toward the segment); none for a circle (engine/statics_paths.py holds circles)."""

@@ -5,8 +5,8 @@ RAY_TESTS maps a shape kind to its test (core/geometry/ray.py), as SHAPE_PAIRS d
 contacts; `ray_body` is the compiled dispatcher. A new shape kind adds a row and a branch.
 """
 import numpy as np
-from numba import njit
 
+from ..core.compiling import compiled
 from ..core.geometry.capsule import ray_capsule
 from ..core.geometry.ray import ray_circle, ray_polygon
 from ..core.kinds import CAPSULE, CIRCLE, POLYGON
@@ -15,7 +15,7 @@ from .capsules import ray_capsule_body
 RAY_TESTS = {CIRCLE: ray_circle, POLYGON: ray_polygon, CAPSULE: ray_capsule}
 
 
-@njit(cache=True, inline="always")
+@compiled(inline="always")
 def ray_body(shapes, positions, radii, vertices, start, i, ox, oy, ux, uy):
     """Where the ray o + t·u (u unit) first touches body i: (t, nx, ny, inside), t = inf for a
     miss (see core/geometry/ray.py). shapes: (n,) kinds; positions: (n, 2); radii: (n,);

@@ -11,8 +11,8 @@ A contact is (nx, ny, depth, px, py): the unit normal from the first body toward
 the overlap depth (negative when apart) and the contact point.
 """
 import numpy as np
-from numba import njit
 
+from ..core.compiling import compiled
 from ..core.kinds import CAPSULE, CIRCLE, POLYGON
 from .capsules import capsule_capsule, capsule_circle, capsule_halfplane, rounded_cores
 from .circles import circle_circle, circles_touch
@@ -39,7 +39,7 @@ STATIC_MANIFOLDS = {
 }
 
 
-@njit(cache=True)
+@compiled
 def touching(shapes, positions, radii, i, j):
     """Do bodies i and j touch? shapes: (n,) kinds; positions: (n, 2); radii: (n,)."""
     if shapes[i] == CIRCLE and shapes[j] == CIRCLE:
@@ -47,7 +47,7 @@ def touching(shapes, positions, radii, i, j):
     return False
 
 
-@njit(cache=True)
+@compiled
 def contact(shapes, positions, radii, i, j):
     """The contact (nx, ny, depth, px, py) of bodies i and j."""
     if shapes[i] == CIRCLE and shapes[j] == CIRCLE:
@@ -55,7 +55,7 @@ def contact(shapes, positions, radii, i, j):
     return 1.0, 0.0, -np.inf, positions[i, 0], positions[i, 1]
 
 
-@njit(cache=True)
+@compiled
 def contact_table(shapes, positions, radii, vertices, start, candidates, polygons):
     """One row (i, j, nx, ny, depth, px, py) per contact point of the candidate pairs (k, 2).
     polygons: True, or None for a world of circles (which then compiles no polygon path)."""

@@ -1,13 +1,13 @@
 """A circle against the static geometry: thin segments (found through the static index)."""
 import numpy as np
-from numba import njit
 
 from ..core.arrays import grown
+from ..core.compiling import compiled
 from ..core.geometry.segment import segment_contact
 from ..statics.segment_index import build_segment_index, segments_near
 
 
-@njit(cache=True)
+@compiled
 def circle_segment(positions, radii, i, segments, s):
     """The contact of circle i with segment s as (nx, ny, depth, qx, qy): the unit normal from
     the segment's closest point q towards the centre, the overlap depth (negative when apart)
@@ -16,7 +16,7 @@ def circle_segment(positions, radii, i, segments, s):
     return nx, ny, radii[i] - distance, qx, qy
 
 
-@njit(cache=True)
+@compiled
 def segment_contacts(positions, radii, segments, index, contacts, near, within):
     """Every (body, segment) pair that touches, or is apart by at most `within` times the body's
     radius, bodies in index order, each body's segments in index order. contacts: a (c, 2)
@@ -45,7 +45,7 @@ def touching_segments(positions, radii, segments, box) -> tuple:
     return pairs, depths
 
 
-@njit(cache=True)
+@compiled
 def empty_contacts():
     """A (16, 2) int64 buffer for segment_contacts to grow."""
     return np.empty((16, 2), np.int64)

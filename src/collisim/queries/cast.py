@@ -8,15 +8,15 @@ The broad phase then searches the bodies for anything closer (broadphase/ray_clo
 import math
 
 import numpy as np
-from numba import njit
 
 from ..broadphase.ray_closest import body_ray_closest
 from ..broadphase.ray_hit import MAP, SEGMENT, WALL, Ray, keep_closer, no_hit
+from ..core.compiling import compiled
 from ..core.geometry.ray import ray_walls
 from .segment_rays import nearest_segment, segment_ray_closest
 
 
-@njit(cache=True)
+@compiled
 def unit_directions(origins, directions, max_distances, units):
     """Fill units (m, 2) with the directions (m, 2) divided by their lengths, as check_ray
     does for one ray (components near the float64 limit halved first, which is exact, so the
@@ -34,7 +34,7 @@ def unit_directions(origins, directions, max_distances, units):
     return -1
 
 
-@njit(cache=True, inline="always")
+@compiled(inline="always")
 def statics_closest(box, segments, map_segments, in_map, ray):
     """The first hit among the statics. box: (4,); segments, map_segments: SegmentGrid; in_map:
     the origin lies in the map's solid (its index is then the nearest map segment)."""
@@ -47,7 +47,7 @@ def statics_closest(box, segments, map_segments, in_map, ray):
     return segment_ray_closest(map_segments, MAP, ray, best)
 
 
-@njit(cache=True)
+@compiled
 def record(out, k, ray, best):
     """Write hit `best` of ray k into the output arrays (nothing hit: distance inf, point and
     normal nan, kind and index -1)."""
@@ -60,7 +60,7 @@ def record(out, k, ray, best):
     kinds[k], indices[k], inside[k] = kind, index, is_inside
 
 
-@njit(cache=True)
+@compiled
 def cast_rays(state, bodies, box, segments, map_segments, in_map, origins, units, max_distances, scale, skip_inside,
               out):
     """The closest hit of each ray origins[k] + t·units[k], t in [0, max_distances[k]].

@@ -11,10 +11,10 @@ import math
 from collections import namedtuple
 
 import numpy as np
-from numba import njit
 
 from ..broadphase.grid_cursor import begin_walk, cell_bounds_both_ways, next_cell
 from ..broadphase.ray_hit import keep_closer, search_limit
+from ..core.compiling import compiled
 from ..core.geometry.ray import ray_segment
 from ..core.geometry.segment import closest_on_segment
 from ..statics.segment_index import build_segment_index
@@ -37,7 +37,7 @@ def segment_grid(segments, box) -> SegmentGrid:
     return SegmentGrid(segments, index.cell_start, index.cell_segments, bounds)
 
 
-@njit(cache=True, inline="always")
+@compiled(inline="always")
 def segment_ray_closest(grid, kind, ray, best):
     """Keep the closer of best and the first segment of `grid` the ray hits (hit kind `kind`,
     index the segment's row). ray: a broadphase.ray_hit.Ray."""
@@ -57,7 +57,7 @@ def segment_ray_closest(grid, kind, ray, best):
             best = keep_closer(best, t, False, kind, s, normal_x, normal_y, ray.max_distance)
 
 
-@njit(cache=True)
+@compiled
 def nearest_segment(segments, px, py):
     """The row of the segment (m, 4), m >= 1, closest to the point (the first of equals)."""
     nearest, nearest_distance = 0, np.inf

@@ -45,7 +45,7 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
+from ..core.compiling import compiled
 
 TINY = 0.5        # below this radius a disc is a bilinear splat of its area
 BLEND = 1.0 / math.sqrt(math.pi)   # from TINY to here (area 1) mixed with that splat
@@ -55,7 +55,7 @@ ONE_TWELFTH = 1.0 / 12.0
 INSIDE = 2.0      # the scratch's mark for a pixel entirely inside a disc
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@compiled(inline="always", error_model="numpy")
 def _centred(r):
     """Exact covered fraction of the pixel centred on a disc of radius r >= 0.5."""
     if r * r >= 0.5:
@@ -64,7 +64,7 @@ def _centred(r):
     return math.pi * r * r - 4.0 * segment
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@compiled(inline="always", error_model="numpy")
 def _edge(dx, dy, r, rs):
     """Covered fraction of a boundary pixel whose centre is at (dx, dy) from the centre of a
     disc of radius r: the exact area of the unit square inside the tangent line at distance rs
@@ -90,12 +90,12 @@ def _edge(dx, dy, r, rs):
     return flat if abs(sd) <= 0.5 * (m - k) else (1.0 - tail if sd >= 0.0 else tail)
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@compiled(inline="always", error_model="numpy")
 def _shifted(r):
     return math.sqrt(max(r * r - ONE_TWELFTH, 0.0))
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@compiled(inline="always", error_model="numpy")
 def _row(cx, dy, r):
     """For the pixel row at dy from the centre: the columns the disc touches, (first, last),
     and the columns entirely inside it, (first, last), unclipped floats. An empty run of
@@ -115,7 +115,7 @@ def _row(cx, dy, r):
     return t0, t1, t1 + 1.0, t1
 
 
-@njit(cache=True, error_model="numpy")
+@compiled(error_model="numpy")
 def _small_cover(cx, cy, r, scratch):
     """A disc of radius in [TINY, SMALL): the raw covered fractions of its box (INSIDE for the
     pixels entirely inside) into scratch[:h, :w], and the affine map c -> alpha c + beta for
@@ -159,7 +159,7 @@ def _small_cover(cx, cy, r, scratch):
     return int(i0), int(j0), w, h, alpha, beta
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@compiled(inline="always", error_model="numpy")
 def _normalized(c, alpha, beta):
     """A fraction from _small_cover's scratch mapped by its (alpha, beta): INSIDE becomes 1."""
     if c > 1.0:
@@ -169,13 +169,13 @@ def _normalized(c, alpha, beta):
     return c
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@compiled(inline="always", error_model="numpy")
 def _tent_weight(dx, dy, r):
     """Fraction of a disc's area pi r^2 that a bilinear splat gives the pixel at (dx, dy)."""
     return math.pi * r * r * max(1.0 - abs(dx), 0.0) * max(1.0 - abs(dy), 0.0)
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@compiled(inline="always", error_model="numpy")
 def _mixed(c, dx, dy, r):
     """Below BLEND, the fraction c mixed with the bilinear splat, all splat at TINY."""
     if r >= BLEND:
@@ -184,7 +184,7 @@ def _mixed(c, dx, dy, r):
     return w * c + (1.0 - w) * _tent_weight(dx, dy, r)
 
 
-@njit(cache=True, error_model="numpy")
+@compiled(error_model="numpy")
 def _fraction(dx, dy, r, rs, alpha, beta):
     """Covered fraction of the pixel at (dx, dy) from the centre of a disc of radius r (rs and
     the normalizing map alpha, beta as _small_cover gives them)."""
@@ -202,7 +202,7 @@ def _fraction(dx, dy, r, rs, alpha, beta):
     return _mixed(c, dx, dy, r)
 
 
-@njit(cache=True, error_model="numpy")
+@compiled(error_model="numpy")
 def _normalizer(cx, cy, r, scratch):
     if TINY <= r < SMALL:
         _, _, _, _, alpha, beta = _small_cover(cx, cy, r, scratch)

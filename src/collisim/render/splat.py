@@ -22,19 +22,19 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
+from ..core.compiling import compiled
 from .bands import RING_DISCS, in_bands
 from .coverage import (SCRATCH, SMALL, TINY, _edge, _fraction, _mixed, _normalized, _normalizer, _row, _shifted,
                        _small_cover, _tent_weight)
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@compiled(inline="always", error_model="numpy")
 def _clip(x, lo, hi):
     return int(min(max(x, lo), hi))
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@compiled(inline="always", error_model="numpy")
 def _runs(t0, t1, o0, o1, left, right):
     """Clip a row's touched columns [t0, t1] to the columns [left, right) and split them around
     the run [o0, o1] (empty: o0 = o1 + 1): returns a, before, run0, run1, after, b with
@@ -49,7 +49,7 @@ def _runs(t0, t1, o0, o1, left, right):
     return a, before, run0, run1, after, b
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@compiled(inline="always", error_model="numpy")
 def _color(colors, n):
     """Colour n as three numbers, loaded once a disc: read from the array at every pixel, it was
     loaded again after every store into the canvas (which the compiler cannot prove apart from
@@ -57,7 +57,7 @@ def _color(colors, n):
     return colors[n, 0], colors[n, 1], colors[n, 2]
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@compiled(inline="always", error_model="numpy")
 def _blend(canvas, j, i, color, c, bias):
     v = canvas[j, i, 0]
     canvas[j, i, 0] = v + (color[0] - v) * c + bias
@@ -67,7 +67,7 @@ def _blend(canvas, j, i, color, c, bias):
     canvas[j, i, 2] = v + (color[2] - v) * c + bias
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@compiled(inline="always", error_model="numpy")
 def _fill(canvas, j, i0, i1, color, bias):
     b, g, r = color[0] + bias, color[1] + bias, color[2] + bias
     for i in range(i0, i1 + 1):
@@ -76,7 +76,7 @@ def _fill(canvas, j, i0, i1, color, bias):
         canvas[j, i, 2] = r
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@compiled(inline="always", error_model="numpy")
 def _tent(canvas, clip, cx, cy, area, color, bias):
     """A sub-pixel disc: its area spread bilinearly over the four pixels around (cx, cy)."""
     left, top, right, bottom = clip
@@ -98,7 +98,7 @@ def _tent(canvas, clip, cx, cy, area, color, bias):
                 _blend(canvas, j, i, color, min(c, 1.0), bias)
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@compiled(inline="always", error_model="numpy")
 def _small_disc(canvas, clip, cx, cy, r, color, bias, scratch):
     left, top, right, bottom = clip
     i0, j0, w, h, alpha, beta = _small_cover(cx, cy, r, scratch)
@@ -109,7 +109,7 @@ def _small_disc(canvas, clip, cx, cy, r, color, bias, scratch):
                 _blend(canvas, j0 + jj, i0 + ii, color, min(c, 1.0), bias)
 
 
-@njit(cache=True, error_model="numpy")
+@compiled(error_model="numpy")
 def _large_disc(canvas, clip, cx, cy, r, color, bias):
     """A disc of radius >= SMALL, row by row: the inside run filled, the boundary blended."""
     left, top, right, bottom = clip
@@ -131,7 +131,7 @@ def _large_disc(canvas, clip, cx, cy, r, color, bias):
                 _blend(canvas, j, i, color, c, bias)
 
 
-@njit(cache=True, error_model="numpy")
+@compiled(error_model="numpy")
 def _covered_disc(canvas, clip, cx, cy, r, color, bias, scratch):
     """A disc of radius >= TINY, blended by covered fractions.
 
@@ -144,7 +144,7 @@ def _covered_disc(canvas, clip, cx, cy, r, color, bias, scratch):
         _large_disc(canvas, clip, cx, cy, r, color, bias)
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@compiled(inline="always", error_model="numpy")
 def _off_clip(cx, cy, r, clip):
     """Whether a disc cannot reach the clip rectangle (or cannot be drawn at all)."""
     left, top, right, bottom = clip
@@ -152,7 +152,7 @@ def _off_clip(cx, cy, r, clip):
         cx + r + 1.0 < left or cy + r + 1.0 < top or cx - r - 1.0 > right or cy - r - 1.0 > bottom)
 
 
-@njit(cache=True, error_model="numpy")
+@compiled(error_model="numpy")
 def _small_ring(canvas, clip, cx, cy, outer, inner, color, bias, scratch, inner_scratch):
     """A ring of outer radius in [TINY, SMALL): each disc's fractions computed once into its own
     scratch (as _small_disc does), the inner's subtracted from the outer's. The same numbers as
@@ -176,7 +176,7 @@ def _small_ring(canvas, clip, cx, cy, outer, inner, color, bias, scratch, inner_
                 _blend(canvas, j0 + jj, i0 + ii, color, min(c, 1.0), bias)
 
 
-@njit(cache=True, error_model="numpy")
+@compiled(error_model="numpy")
 def _large_ring(canvas, clip, cx, cy, outer, inner, color, bias, scratch):
     """A ring of outer radius >= SMALL, row by row, skipping the columns inside the inner disc."""
     left, top, right, bottom = clip
@@ -202,7 +202,7 @@ def _large_ring(canvas, clip, cx, cy, outer, inner, color, bias, scratch):
                     _blend(canvas, j, i, color, min(c, 1.0), bias)
 
 
-@njit(cache=True, error_model="numpy")
+@compiled(error_model="numpy")
 def _ring(canvas, clip, cx, cy, outer, inner, color, bias, scratch, inner_scratch):
     if outer < TINY:     # both sub-pixel: one splat of the annulus's area
         _tent(canvas, clip, cx, cy, math.pi * (outer * outer - inner * inner), color, bias)
@@ -212,7 +212,7 @@ def _ring(canvas, clip, cx, cy, outer, inner, color, bias, scratch, inner_scratc
         _large_ring(canvas, clip, cx, cy, outer, inner, color, bias, scratch)
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@compiled(nogil=True, error_model="numpy")
 def splat_rings(canvas, clip, centres, radii, thickness, colors, bias):
     """Draw rings and discs into canvas (h, w, 3), in order, touching only the pixels of clip:
     (left, top, right, bottom), columns [left, right) and rows [top, bottom), within the canvas.

@@ -20,14 +20,14 @@ that converged holds nothing; nor does one that merely stopped short in a pile o
 within 1.4 of each other), which the next step's sweeps take up as before.
 """
 import numpy as np
-from numba import njit
 
+from ..core.compiling import compiled
 from .contact_row import inverses, kicked, load, relative, store
 
 HOLD_RATIO = 10.0   # an upper body this many times heavier than the lower one: the sweeps cannot carry it
 
 
-@njit(cache=True)
+@compiled
 def pull(accelerations, i, j):
     """The larger acceleration of a row's bodies (a wall's is 0)."""
     largest = (accelerations[i, 0] ** 2 + accelerations[i, 1] ** 2) ** 0.5
@@ -36,7 +36,7 @@ def pull(accelerations, i, j):
     return largest
 
 
-@njit(cache=True)
+@compiled
 def _height(rows, r, accelerations):
     """How high row r's point is against its bodies' pull (their summed accelerations): lower points
     sort first. 0 where nothing pulls."""
@@ -47,7 +47,7 @@ def _height(rows, r, accelerations):
     return -(rows.point[r, 0] * down_x + rows.point[r, 1] * down_y)
 
 
-@njit(cache=True)
+@compiled
 def _below_is_j(rows, r, accelerations):
     """Does body j of pair row r lie below body i, along the bodies' summed pull?"""
     i, j = rows.i[r], rows.j[r]
@@ -56,7 +56,7 @@ def _below_is_j(rows, r, accelerations):
     return rows.normal[r, 0] * down_x + rows.normal[r, 1] * down_y > 0.0
 
 
-@njit(cache=True)
+@compiled
 def hold_from_below(rows, rows_of, target, base, per_pull, per_target, accelerations, inverse_masses,
                     inverse_inertias, lin, ang, share, accumulated, base_t, friction):
     """After a pass's sweeps: if one of the rows rows_of[k] is a pair whose upper body is

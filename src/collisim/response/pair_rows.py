@@ -8,9 +8,8 @@ that can reach a box wall, a segment or the map in the step, a body another pair
 turn) the pair keeps its rows.
 """
 import numpy as np
-from numba import njit
 
-from ..core.compiling import kernel
+from ..core.compiling import compiled, kernel
 from ..core.geometry.toi import time_to_pair
 from ..core.geometry.vector import length
 from ..core.kinds import CIRCLE
@@ -19,7 +18,7 @@ from ..narrowphase.manifold import body_pair_manifold, body_pair_swept_gap
 from .rows import APART, MEET_TOLERANCE, SLOP, reaches, record_manifold
 
 
-@njit(cache=True)
+@compiled
 def _circles_at_contact(positions, velocities, radii, i, j, dt, m):
     """Two circles still apart that touch within the step: their manifold where they meet, with
     the normal at the time of contact t (uniform gravity cancels between them) and the gap closed
@@ -45,7 +44,7 @@ def _circles_apart(positions, radii, i, j, reach):
     return dx * dx + dy * dy > (APART * (radii[i] + radii[j] + reach)) ** 2
 
 
-@njit(cache=True)
+@compiled
 def pair_reaches(bodies, vertices, margin, i, j, polygons):
     """Does pair_manifolds look at bodies i and j and find a point within the sum of their
     margins (taken where they are, before a pair of circles is met at its time of contact)?"""
@@ -56,7 +55,7 @@ def pair_reaches(bodies, vertices, margin, i, j, polygons):
                                        reach), reach)
 
 
-@njit(cache=True)
+@compiled
 def pair_manifolds(bodies, vertices, margin, dt, pairs, found, k, in_pair, touching, polygons, asleep, turns):
     """Record after found[:k] the manifolds of pairs (p, 2) (canonical order, i < j) with a point
     closer than the sum of their margins; in_pair (n,) marks their bodies, and touching (p,)
@@ -91,7 +90,7 @@ def pair_manifolds(bodies, vertices, margin, dt, pairs, found, k, in_pair, touch
     return _held_after_all(bodies, vertices, margin, dt, pairs, passing, count, found, k, in_pair, polygons)
 
 
-@njit(cache=True)
+@compiled
 def _pair_manifold(bodies, vertices, polygons, i, j, reach, dt):
     """The manifold of bodies i and j within reach; two circles apart, at their time of contact."""
     b = bodies
@@ -101,7 +100,7 @@ def _pair_manifold(bodies, vertices, polygons, i, j, reach, dt):
     return m
 
 
-@njit(cache=True)
+@compiled
 def _held_after_all(bodies, vertices, margin, dt, pairs, passing, count, found, k, in_pair, polygons):
     """Record the pairs the sweep let pass (pairs[passing[:count]]) of which a body is in another
     pair's rows after all, until none is: the solve may turn that body, and the sweep's straight
@@ -124,7 +123,7 @@ def _held_after_all(bodies, vertices, margin, dt, pairs, passing, count, found, 
     return k
 
 
-@njit(cache=True)
+@compiled
 def _may_meet(bodies, vertices, i, j, dt, gap, polygons, turns):
     """Can bodies i and j, `gap` apart where the step starts, meet within it? A speculative
     pair that cannot gets no rows: its normal joins the closest features where the step starts,

@@ -37,9 +37,8 @@ broad phase found the pairs.
 from collections import namedtuple
 
 import numpy as np
-from numba import njit
 
-from ..core.compiling import kernel
+from ..core.compiling import compiled, kernel
 from ..core.geometry.box import wall_geometry
 from ..core.geometry.vector import length
 from ..core.kinds import CIRCLE, N_WALLS
@@ -73,7 +72,7 @@ def was_impact(rows, r):
     return rows.hit[r] > 0.0 or rows.arrives[r]
 
 
-@njit(cache=True)
+@compiled
 def new_rows(capacity):
     k = max(capacity, 1)
     ints, reals, pairs = (lambda: np.empty(k, np.int64)), (lambda: np.zeros(k)), (lambda: np.empty((k, 2)))
@@ -81,7 +80,7 @@ def new_rows(capacity):
                 reals(), reals(), reals(), reals(), reals(), reals(), np.zeros(k, np.bool_))
 
 
-@njit(cache=True)
+@compiled
 def margins(velocities, angular_velocities, accelerations, radii, dt, out):
     """Each body's speculative margin (n,): how far any of its points can move in a step of dt,
     capped at its radius (a faster body may still tunnel: that is the discrete method's known
@@ -113,7 +112,7 @@ APART = 1.0 + 1e-9   # bounding circles this much farther than a reach are apart
 MEET_TOLERANCE = 1e-9   # of the two radii: a sweep that comes this close meets (rounding)
 
 
-@njit(cache=True)
+@compiled
 def new_found(capacity):
     """Room for `capacity` manifold records (capacity, FOUND)."""
     return np.empty((max(capacity, 1), FOUND))
@@ -137,7 +136,7 @@ def reaches(m, reach):
     return m[2] > 0 and -m[3] < reach
 
 
-@njit(cache=True)
+@compiled
 def wall_manifolds(bodies, vertices, margin, dt, box, rest_speed, in_pair, found, k, polygons, asleep):
     """Record after found[:k] the manifolds of bodies held by a box wall (see the module's rule).
     in_pair (n,) bool: bodies in a pair's manifold; polygons as for pair_manifolds. Returns the
@@ -173,7 +172,7 @@ def wall_manifolds(bodies, vertices, margin, dt, box, rest_speed, in_pair, found
     return k
 
 
-@njit(cache=True)
+@compiled
 def circle_segment_manifolds(bodies, margin, segments, near, count, i, rest_speed, in_pair, found, k):
     """Record after found[:k] the manifolds of circle i with the segments near[:count] that hold
     it (_held_by_static): j = -1, wall = N_WALLS + the segment's number. Returns the new record
@@ -185,7 +184,7 @@ def circle_segment_manifolds(bodies, margin, segments, near, count, i, rest_spee
     return k
 
 
-@njit(cache=True)
+@compiled
 def circle_map_manifold(bodies, margin, field, static, i, rest_speed, in_pair, found, k):
     """Record as found[k] the manifold of circle i with the collision map (field) if it holds it
     (_held_by_static): its gap is the map's distance at the centre less the radius, its normal
@@ -220,7 +219,7 @@ def _held_by_static(bodies, margin, i, nx, ny, gap, static, rest_speed, in_pair,
     return record_manifold(found, k, i, -1, static, margin[i], 0.0, m)
 
 
-@njit(cache=True)
+@compiled
 def segment_manifolds(bodies, vertices, margin, segments, found, k, polygons, asleep):
     """Record after found[:k] the manifolds of polygons within their margin of a segment (m, 4):
     j = -1, wall = N_WALLS + the segment's number; polygons as for pair_manifolds. Returns the
@@ -255,7 +254,7 @@ def _effective_mass(m_i, inertia_i, lever_i, m_j, inertia_j, lever_j, j):
     return 1.0 / k
 
 
-@njit(cache=True)
+@compiled
 def rows_from(found, k, bodies, rows):
     """The rows of found[:k]'s manifolds: one a point closer than its record's reach, in record
     order, then point order. A row of two circles, or of a circle and a wall, meets on their line
@@ -295,7 +294,7 @@ def rows_from(found, k, bodies, rows):
     return count
 
 
-@njit(cache=True)
+@compiled
 def beyond_segment(segments, k, x, y, reach):
     """Is segment k farther than reach from (x, y)? (Its box, grown by reach, misses the point.)"""
     x0, y0, x1, y1 = segments[k, 0], segments[k, 1], segments[k, 2], segments[k, 3]
@@ -303,7 +302,7 @@ def beyond_segment(segments, k, x, y, reach):
             or y > max(y0, y1) + reach)
 
 
-@njit(cache=True)
+@compiled
 def near_segments(bodies, margin, segments):
     """How many (polygon, segment) pairs are near enough for segment_manifolds to look at."""
     b = bodies

@@ -39,8 +39,8 @@ Per-body vectors are (lin (n, 2), ang (n,)): a velocity and a turning rate, or t
 Bodies' inertia comes as inverse_masses (n,) and inverse_inertias (n,): 1/m and 1/I.
 """
 import numpy as np
-from numba import njit
 
+from ..core.compiling import compiled
 from .contact_row import (block, couplings, friction_kick, inverses, kicked, load, load_mean, meets, relative,
                           store, together, zero_bodies)
 from .hold import hold_from_below
@@ -75,7 +75,7 @@ STALL_AFTER = 10
 # hold the same stacks and piles (tests/test_solver.py, test_polygon_engine.py).
 REST_SWEEPS = 4
 
-@njit(cache=True)
+@compiled
 def collide(rows, count, lin, ang, accelerations, inverse_masses, inverse_inertias, restitution, friction, rest_speed,
             dt, passes):
     """Impacts, on the velocities at the start of the step (lin (n, 2), ang (n,)) in place: see the
@@ -134,7 +134,7 @@ def collide(rows, count, lin, ang, accelerations, inverse_masses, inverse_inerti
             return
 
 
-@njit(cache=True)
+@compiled
 def _impact(rows, r, v, accelerations, dt, rest_speed, restitution):
     """Row r's closing speed if it is an impact collide takes (contact_row.meets), else 0; marks
     the row arriving instead where it meets a static perfectly inelastic and still apart."""
@@ -147,7 +147,7 @@ def _impact(rows, r, v, accelerations, dt, rest_speed, restitution):
     return closing
 
 
-@njit(cache=True)
+@compiled
 def _largest(impulses, count):
     largest = 0.0
     for r in range(count):
@@ -155,7 +155,7 @@ def _largest(impulses, count):
     return largest
 
 
-@njit(cache=True)
+@compiled
 def _along_rows(rows, count, lin, ang, accelerations, dt, tangent):
     """Each row's relative mean velocity (count,) in the step (lin + ½·a·dt, ang: load_mean),
     along its normal, or along its tangent (-n_y, n_x) if `tangent`."""
@@ -170,7 +170,7 @@ def _along_rows(rows, count, lin, ang, accelerations, dt, tangent):
     return out
 
 
-@njit(cache=True)
+@compiled
 def solve_velocities(rows, count, lin, ang, accelerations, inverse_masses, inverse_inertias, friction, dt, iterations,
                      push_lin, push_ang, hold=True):
     """Steps 1 and 2, from the velocities (lin, ang): the contact impulses rows.impulse and
@@ -256,7 +256,7 @@ def solve_velocities(rows, count, lin, ang, accelerations, inverse_masses, inver
                            inverse_inertias, push_lin, push_ang, 0.5, impulses, base_t, friction)
 
 
-@njit(cache=True)
+@compiled
 def solve_positions(rows, count, lin, ang, accelerations, inverse_masses, inverse_inertias, dt, iterations, push_lin,
                     push_ang, shift_lin, shift_ang, hold=True):
     """Step 3: pseudo-velocities shift_lin (n, 2), shift_ang (n,) (zeroed here for the rows'
@@ -303,7 +303,7 @@ def solve_positions(rows, count, lin, ang, accelerations, inverse_masses, invers
                            shift_lin, shift_ang, 1.0, pseudo, solved, 0.0)   # positions: no friction
 
 
-@njit(cache=True)
+@compiled
 def come_to_rest(rows, count, lin, ang, inverse_masses, inverse_inertias, friction):
     """Step 4, on the final velocities (lin, ang) in place, in up to REST_SWEEPS sweeps: the rows
     that pressed leave at relative normal velocity 0 (their accumulated impulse may fall, never
@@ -336,7 +336,7 @@ def come_to_rest(rows, count, lin, ang, inverse_masses, inverse_inertias, fricti
             break
 
 
-@njit(cache=True)
+@compiled
 def add_contact_motion(bodies, rows, count, push, push_turn, shift, shift_turn, dt, moved):
     """The solver's share of the step (response/solver.py): the contact impulses, spread over the
     step, move a body by push·dt and change its velocity by 2·push (and turn it likewise); the
@@ -356,7 +356,7 @@ def add_contact_motion(bodies, rows, count, push, push_turn, shift, shift_turn, 
             moved[rows.j[r]] = False
 
 
-@njit(cache=True)
+@compiled
 def _move_by_contacts(bodies, i, push, push_turn, shift, shift_turn, dt):
     b = bodies
     for axis in range(2):

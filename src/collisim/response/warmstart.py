@@ -15,9 +15,8 @@ step from its impulse would push apart bodies that are already separating.
 from collections import namedtuple
 
 import numpy as np
-from numba import njit
 
-from ..core.compiling import kernel
+from ..core.compiling import compiled, kernel
 from ..core.kinds import N_WALLS
 from .rows import was_impact
 
@@ -26,12 +25,12 @@ Memory.__doc__ = """Last step's impulses of its resting contacts: keys (k,) int6
 and their accumulated normal and friction impulses (k,)."""
 
 
-@njit(cache=True)
+@compiled
 def no_memory():
     return Memory(np.empty(0, np.int64), np.empty(0), np.empty(0))
 
 
-@njit(cache=True)
+@compiled
 def row_key(rows, r, n, statics=N_WALLS):
     """A number naming row r's contact point among n bodies and `statics` walls and segments, the
     same from step to step: the pair (i, j) or body i and a wall or segment (rows.wall), and the
@@ -46,7 +45,7 @@ def key_bodies(key, n, statics=N_WALLS):
     return (key // 2) // (n + statics), (key // 2) % (n + statics)
 
 
-@njit(cache=True)
+@compiled
 def remember(rows, count, n, statics=N_WALLS):
     """The impulses of this step's pressed rows that were not impacts (rows.was_impact)."""
     keys, impulses, frictions = np.empty(count, np.int64), np.empty(count), np.empty(count)
@@ -59,7 +58,7 @@ def remember(rows, count, n, statics=N_WALLS):
     return Memory(keys[:k][order], impulses[:k][order], frictions[:k][order])
 
 
-@njit(cache=True)
+@compiled
 def recall(rows, count, memory, n, statics=N_WALLS):
     """Each row's starting impulse: what its contact had last step, 0 if it had none."""
     for r in range(count):

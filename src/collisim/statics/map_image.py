@@ -13,9 +13,9 @@ from pathlib import Path
 
 import cv2
 import numpy as np
-from numba import njit
 
 from ..core.checks import number
+from ..core.compiling import compiled
 
 _CHANNELS = {"r": 0, "g": 1, "b": 2, "a": 3}   # of an RGB(A) image
 
@@ -151,7 +151,7 @@ def _shape_rows(name: str, value, columns: int) -> np.ndarray:
     return rows
 
 
-@njit(cache=True)
+@compiled
 def _first_centre_at_or_above(value, origin, cell, n):
     """The first index k in 0..n whose pixel centre origin + (k + 0.5) * cell is >= value (found
     from the estimate, then stepped, so it agrees with the centre formula exactly)."""
@@ -163,7 +163,7 @@ def _first_centre_at_or_above(value, origin, cell, n):
     return k
 
 
-@njit(cache=True)
+@compiled
 def _fill_polygon(vertices, x0, y0, cell, solid):
     """Mark the pixels of solid (rows from the bottom) whose centres are inside the polygon
     vertices (p, 2): per row of centres, the edges' crossings, sorted; a centre is inside when an
@@ -195,7 +195,7 @@ def _fill_polygon(vertices, x0, y0, cell, solid):
                     solid[i, j] = True
 
 
-@njit(cache=True)
+@compiled
 def _fill_circles(circles, x0, y0, cell, solid):
     """Mark the pixels of solid (rows from the bottom) whose centres lie within a circle
     (rows cx, cy, r): (x - cx)^2 + (y - cy)^2 <= r^2."""

@@ -40,8 +40,8 @@ arrays (``index._replace(mark=..., stamp=...)``).
 from collections import namedtuple
 
 import numpy as np
-from numba import njit
 
+from ..core.compiling import compiled
 from ..core.geometry.segment import clip_step
 
 MAX_CELLS = 4_000_000  # 32 MB of cell_start; more cells than this buys nothing
@@ -62,7 +62,7 @@ reported once, without clearing anything between queries."""
 
 # ---------------------------------------------------------------- compiled kernels
 
-@njit(cache=True)
+@compiled
 def cell_of(x, origin, inv_cell, n):
     """Column (or row) holding coordinate x, clamped to 0 .. n - 1.
 
@@ -77,7 +77,7 @@ def cell_of(x, origin, inv_cell, n):
     return int(k)
 
 
-@njit(cache=True, error_model="numpy")
+@compiled(error_model="numpy")
 def _walk_segment(segments, s, x0, y0, cell, nx, ny, tol, cell_start, cell_segments, fill):
     """Visit the cells segment s meets (each once). Counting pass (fill False):
     cell_start[c] += 1. Fill pass: cell_start[c] -= 1 and store s at the new cell_start[c]."""
@@ -117,7 +117,7 @@ def _walk_segment(segments, s, x0, y0, cell, nx, ny, tol, cell_start, cell_segme
                 cell_start[c] += 1
 
 
-@njit(cache=True)
+@compiled
 def _build_csr(segments, x0, y0, cell, nx, ny, tol):
     """Counting sort of the segments into the cells they meet.
 
@@ -140,7 +140,7 @@ def _build_csr(segments, x0, y0, cell, nx, ny, tol):
     return cell_start, cell_segments
 
 
-@njit(cache=True)
+@compiled
 def segments_near(index, lo_x, lo_y, hi_x, hi_y, out):
     """The segments registered in the cells the box [lo_x, hi_x] × [lo_y, hi_y] overlaps.
 

@@ -12,7 +12,8 @@ axis-aligned box (polygon_bounds), the oriented box (oriented_box), then the pol
 import math
 
 import numpy as np
-from numba import njit
+
+from ..compiling import compiled
 
 
 def _fan_moments(vertices, reference):
@@ -47,7 +48,7 @@ def circle_inertia(mass, radius):
     return 0.5 * mass * radius * radius
 
 
-@njit(cache=True, error_model="numpy")
+@compiled(error_model="numpy")
 def world_vertices(body_vertices, x, y, angle, out):
     """Rotate body_vertices (k, 2) by `angle` (counter-clockwise radians) about the body origin,
     move them to (x, y) and write them into out (k, 2). Returns out."""
@@ -59,7 +60,7 @@ def world_vertices(body_vertices, x, y, angle, out):
     return out
 
 
-@njit(cache=True, error_model="numpy")
+@compiled(error_model="numpy")
 def place_polygons(body_vertices, vertex_start, positions, angles, out):
     """Every polygon's vertices in the world at these poses, into out (V, 2): body i's are
     body_vertices[vertex_start[i]:vertex_start[i + 1]] (none for a circle). Returns out."""
@@ -70,7 +71,7 @@ def place_polygons(body_vertices, vertex_start, positions, angles, out):
     return out
 
 
-@njit(cache=True, error_model="numpy")
+@compiled(error_model="numpy")
 def polygon_bounds(vertices):
     """The axis-aligned box (xmin, ymin, xmax, ymax) around vertices (k, 2)."""
     xmin, ymin = vertices[0, 0], vertices[0, 1]
@@ -81,7 +82,7 @@ def polygon_bounds(vertices):
     return xmin, ymin, xmax, ymax
 
 
-@njit(cache=True, error_model="numpy")
+@compiled(error_model="numpy")
 def edge_normals(vertices, out):
     """Unit outward normals of a counter-clockwise polygon's edges into out (k, 2): row i is
     the normal of the edge from vertex i to vertex i + 1. Returns out."""
@@ -94,7 +95,7 @@ def edge_normals(vertices, out):
     return out
 
 
-@njit(cache=True, error_model="numpy")
+@compiled(error_model="numpy")
 def bounding_radius(body_vertices):
     """The radius of the smallest circle about the body origin (the centroid) holding every
     vertex: max |v| over body_vertices (k, 2)."""
@@ -104,7 +105,7 @@ def bounding_radius(body_vertices):
     return reach
 
 
-@njit(cache=True, error_model="numpy")
+@compiled(error_model="numpy")
 def _farthest_along(vertices, start, ux, uy):
     """Walk forward (counter-clockwise) from vertex `start` while the next vertex lies further
     along (ux, uy); the index where it stops. Along a convex polygon the projection rises to
@@ -119,7 +120,7 @@ def _farthest_along(vertices, start, ux, uy):
     return i
 
 
-@njit(cache=True, error_model="numpy")
+@compiled(error_model="numpy")
 def oriented_box(body_vertices):
     """The minimum-area rectangle around a convex counter-clockwise polygon (k, 2):
     (cx, cy, half_w, half_h, angle) — its centre, its half extents along its own axes, and the

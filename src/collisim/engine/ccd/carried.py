@@ -31,11 +31,10 @@ moved away, and left beside a neighbour at its own height) wakes at the frame ti
 import math
 
 import numpy as np
-from numba import njit
 
 from ...core.arrays import copy_rows
-from ...core.compiling import kernel
 from ...broadphase.cells import reach_block, segment_range
+from ...core.compiling import compiled, kernel
 from ...core.geometry.box import wall_geometry
 from ...core.geometry.segment import segment_contact
 from ...core.kinds import N_WALLS, PAIR, SUPPORT
@@ -92,7 +91,7 @@ def _fold(ux, uy, support, nx, ny, left, right):
     return _nearer(angle, support, nx, ny, 1.0, left), _nearer(angle, support, nx, ny, -1.0, right)
 
 
-@njit(cache=True, error_model="numpy")
+@compiled(error_model="numpy")
 def _supports_of(bodies, grid, env, supports, i, ux, uy):
     """The supports of sleeper i nearest direction u on either side: two (angle, support,
     nx, ny), support a wall, N_WALLS + segment, or N_WALLS + segments + body (NONE: none)."""
@@ -143,7 +142,7 @@ def _deliver(log, bodies, env, supports, i, t, support, nx, ny, push):
         supports.load[support - bodies_from, 1] -= push * ny
 
 
-@njit(cache=True, error_model="numpy")
+@compiled(error_model="numpy")
 def _choose(bodies, grid, env, supports, i):
     """Which supports carry sleeper i's present load, and along which normals: (a, ax, ay, b,
     bx, by): two enclosing it (Cramer's rule), or b = NONE for a (its nearest) alone, or a = NONE
@@ -167,7 +166,7 @@ def _choose(bodies, grid, env, supports, i):
     return best[1], best[2], best[3], NONE, 0.0, 0.0
 
 
-@njit(cache=True, error_model="numpy")
+@compiled(error_model="numpy")
 def _split(log, bodies, env, supports, i, t, a, ax, ay, b, bx, by):
     """Pass sleeper i's load on to supports a and b (as _choose gives them); its load is then 0,
     or kept whole if it has no support."""
@@ -210,7 +209,7 @@ def note_sleepers(log, bodies, grid, env, supports, particles, count, t):
             _enter(log, bodies, env, supports, i, t)
 
 
-@njit(cache=True, error_model="numpy")
+@compiled(error_model="numpy")
 def carry_sleepers(log, bodies, grid, env, supports, t, woken, count_woken):
     """At a frame time: every sleeper's weight since last carried joins its load, and the loads
     go down the pile, highest sleeper first. A sleeper with nothing under it any more (it fell

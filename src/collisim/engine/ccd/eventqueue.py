@@ -18,10 +18,9 @@ the dense gas, 1.07 an event processed, against 0.47 pair events.
 from collections import namedtuple
 
 import numpy as np
-from numba import njit
 
 from ...core.arrays import copy_rows
-from ...core.compiling import inlined, kernel
+from ...core.compiling import compiled, inlined, kernel
 from ...core.kinds import SEGMENT
 
 assert SEGMENT < 3  # the bookkeeping kinds below sort after every collision kind
@@ -41,13 +40,13 @@ track of: slot_of (n,) int64 holds the slot of each body's own event, or -1 for 
 ONE_BODY = -2
 
 
-@njit(cache=True, error_model="numpy")
+@compiled(error_model="numpy")
 def new_queue(capacity, bodies):
     """An empty queue with room for `capacity` events, keeping track of `bodies` bodies' own events."""
     return _empty_queue(capacity, np.full(bodies, -1, np.int64))
 
 
-@njit(cache=True, error_model="numpy")
+@compiled(error_model="numpy")
 def _empty_queue(capacity, slot_of):
     """An empty queue with room for `capacity` events, keeping track in slot_of (n,)."""
     return EventQueue(np.empty(capacity), np.empty(capacity, np.int64), np.empty(capacity, np.int64),
@@ -214,7 +213,7 @@ def has_room(queue, extra):
     return queue.size[0] + extra <= queue.time.shape[0]
 
 
-@njit(cache=True, error_model="numpy")
+@compiled(error_model="numpy")
 def reserve(queue, extra, counters, base):
     """A queue with room for `extra` more events: the same one, or one with the
     out-of-date events dropped, or a larger copy."""

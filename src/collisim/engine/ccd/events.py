@@ -51,10 +51,9 @@ from collections import namedtuple
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
 
 from ...broadphase.cells import assign_all, make_grid
-from ...core.compiling import kernel
+from ...core.compiling import compiled, kernel
 from ...core.geometry.box import clamp_into_box
 from ...core.kinds import N_WALLS, PAIR, SEGMENT, WALL
 from ..eventlog import new_log, with_room
@@ -91,7 +90,7 @@ class CCDResult(NamedTuple):
     budget_exceeded: np.ndarray  # (F,) bool
 
 
-@njit(cache=True, error_model="numpy")
+@compiled(error_model="numpy")
 def schedule_all(bodies, grid, env, queue, t, t_end, base, done):
     """Forget every prediction and predict everything afresh from time t."""
     n = bodies.radius.shape[0]
@@ -102,7 +101,7 @@ def schedule_all(bodies, grid, env, queue, t, t_end, base, done):
     return reschedule_growing(bodies, grid, env, queue, np.arange(n), n, t, t_end, base, done)
 
 
-@njit(cache=True, error_model="numpy")
+@compiled(error_model="numpy")
 def reschedule_growing(bodies, grid, env, queue, particles, count, t, t_end, base, done):
     """reschedule, growing the queue whenever it asks to; returns the queue. For the calls made
     once a frame: the event loop (run) writes this loop out, since a call that may allocate
@@ -178,7 +177,7 @@ def run(loop, frame_dt, first, count, budget, positions, velocities, counts, ove
     return _run(loop, loop.resting, frame_dt, first, count, budget, positions, velocities, counts, over_budget)
 
 
-@njit(cache=True, nogil=True, error_model="numpy")   # engine/ahead.py: blocks on their own thread
+@compiled(nogil=True, error_model="numpy")   # engine/ahead.py: blocks on their own thread
 def _run(loop, resting, frame_dt, first, count, budget, positions, velocities, counts, over_budget):
     """run, with loop.resting as an argument: None prunes (before typing) every branch that
     `resting is not None` guards, so that they never compile (EventLoop)."""

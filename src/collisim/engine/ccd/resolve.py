@@ -56,9 +56,8 @@ import math
 from collections import namedtuple
 
 import numpy as np
-from numba import njit
 
-from ...core.compiling import kernel
+from ...core.compiling import compiled, kernel
 from ...core.geometry.box import wall_geometry
 from ...core.geometry.circle import line_of_centres
 from ...core.geometry.segment import segment_contact
@@ -103,7 +102,7 @@ MAX_SWEEPS = 100
 SEPARATION_FLOOR = 1e-12
 
 
-@njit(cache=True, error_model="numpy")
+@compiled(error_model="numpy")
 def new_contacts(capacity):
     """Room for `capacity` simultaneous contacts."""
     return Contacts(np.empty(capacity, np.int64), np.empty(capacity, np.int64), np.empty(capacity, np.int64),

@@ -16,9 +16,8 @@ they are not counted in the per-frame collision counts, and the player does not 
 from collections import namedtuple
 
 import numpy as np
-from numba import njit
 
-from ...core.compiling import kernel
+from ...core.compiling import compiled, kernel
 from ...core.geometry.box import wall_geometry
 from ...core.geometry.segment import segment_contact
 from ...core.kinds import N_WALLS, SUPPORT
@@ -103,7 +102,7 @@ def note_supports(log, bodies, env, supports, particles, count, t):
         supports.force[i, 0], supports.force[i, 1] = support_forces(bodies, env, i)
 
 
-@njit(cache=True, error_model="numpy")
+@compiled(error_model="numpy")
 def log_frame_supports(log, bodies, env, supports, t):
     """At a frame time: log what every resting particle's supports gave it since last logged
     (not the sleepers': their weight is carried, carried.py)."""
