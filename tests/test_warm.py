@@ -16,28 +16,32 @@ import sys
 from numba.core import event
 import collisim
 from collisim.engine.discrete import DiscreteStepper
-from collisim.engine.warm import compile_step_tail, step_tail_calls
+from collisim.engine.warm import compile_far_end, far_end_calls
 
-scene = collisim.load_scene(sys.argv[1])
-tail = {kernel.function for kernel, _ in step_tail_calls(scene.world, scene.fps)}
-compile_step_tail(scene.world, scene.fps)
-with event.install_recorder("numba:compile") as recorded:
-    frames, events = DiscreteStepper(scene.world, scene.fps).run(30)
-functions = [ev.data["dispatcher"].py_func for _, ev in recorded.buffer if ev.is_start]
-print(len(events.time), len(functions), sum(f in tail for f in functions))
+for name in sys.argv[1:]:
+    scene = collisim.load_scene(name)
+    helped = {kernel.function for kernel, _ in far_end_calls(scene.world, scene.fps)}
+    compile_far_end(scene.world, scene.fps)
+    with event.install_recorder("numba:compile") as recorded:
+        frames, events = DiscreteStepper(scene.world, scene.fps).run(60)
+    functions = [ev.data["dispatcher"].py_func for _, ev in recorded.buffer if ev.is_start]
+    print(len(helped), len(events.time), len(functions), sum(f in helped for f in functions))
 """
 
 
 @pytest.mark.slow
 def test_the_helper_compiles_each_kernel_for_the_types_the_step_hands_it(tmp_path):
-    # a fresh process with an empty kernel cache: what the run compiles is what the helper missed
+    # a fresh process with an empty kernel cache: what a run compiles is what the helper missed.
+    # particles_250: a gas; teacher_drop: a world that may sleep, under gravity
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path), COLLISIM_CACHE_DIR=str(tmp_path / "c"))
-    result = subprocess.run([sys.executable, "-c", HELPER_THEN_RUN, "particles_250"], env=env, capture_output=True,
-                            text=True, timeout=600)
+    result = subprocess.run([sys.executable, "-c", HELPER_THEN_RUN, "particles_250", "teacher_drop"], env=env,
+                            capture_output=True, text=True, timeout=600)
     assert result.returncode == 0, result.stderr
-    logged, compiled, compiled_again = map(int, result.stdout.split())
-    assert logged > 0 and compiled > 0   # bodies met, and the run compiled the rest of the step
-    assert compiled_again == 0           # and none of the helper's kernels
+    (gas_helped, *gas), (sleeping_helped, *sleeping) = [map(int, line.split()) for line in result.stdout.splitlines()]
+    assert sleeping_helped == gas_helped + 5   # the sleepers' kernels
+    for logged, compiled, compiled_again in (gas, sleeping):
+        assert logged > 0 and compiled > 0   # bodies met, and the run compiled the rest of the step
+        assert compiled_again == 0           # and none of the helper's kernels
 
 
 def test_the_helper_starts_on_a_first_run_and_ends_with_the_render_leaving_no_file(tmp_path, monkeypatch):

@@ -25,7 +25,7 @@ import numba
 import numpy as np
 
 from .core import compiling
-from .engine.warm import compile_step_tail
+from .engine.warm import compile_far_end
 from .render import splat
 
 
@@ -89,7 +89,7 @@ def main(path: str) -> None:
     with open(path, "rb") as file:
         world, fps, substeps, broadphase = pickle.load(file)
     os.remove(path)
-    compile_step_tail(world, fps, substeps, broadphase)
+    compile_far_end(world, fps, substeps, broadphase)
     compile_drawing()
 
 

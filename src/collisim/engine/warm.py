@@ -2,43 +2,58 @@
 
 numba compiles one kernel at a time in a process, and compiles a kernel's callees as it types
 the kernel, in the order its source calls them: `run_frames` (discrete.py) first compiles its
-contact phases, then the solver, the integration and the statics. A second process that
-compiles the later kernels for the same world while the first works through the earlier ones
+contact phase (from its start: the broad phase, the pairs' rows, the walls' and the segments'),
+then the solver, the integration, the statics and the sleepers'. A second process that compiles
+these from the far end for the same world, while the first works through them from the start,
 saves them into the kernel cache (core/compiling.py: processes compile side by side and take
-turns to save), where the first finds them when it gets there and loads them instead.
+turns to save), where the first finds them when it gets there and loads them instead; the two
+meet in the middle.
 
-`compile_step_tail` compiles each of those kernels as compiled code calls it
-(core/compiling.compile_for_compiled_code) for the types of the stepper's own state, as
-run_frames hands it, with no contact rows (count 0) (tests/test_warm.py checks that the run
-compiles none of them again). The calls are in the reverse of run_frames' order, so the two processes meet in
-the middle.
+`compile_far_end` compiles each kernel as compiled code calls it
+(core/compiling.compile_for_compiled_code), for the types of a stepper's own state with no
+contact rows (count 0): the types run_frames hands it (tests/test_warm.py checks that the run
+compiles none of them again).
 """
 from __future__ import annotations
 
 import numpy as np
 
 from ..core.compiling import compile_for_compiled_code
-from ..response.rows import new_rows
+from ..response.pair_rows import pair_manifolds
+from ..response.rows import near_segments, new_found, new_rows, rows_from, segment_manifolds, wall_manifolds
 from ..response.solver import add_contact_motion, collide, come_to_rest, solve_positions, solve_velocities
 from ..response.warmstart import recall, remember
 from .discrete import DiscreteStepper, _log_contacts
 from .eventlog import new_log
 from .integrate import integrate
+from .islands import fall_asleep, keep_sleepers, log_carried, sleepers_touching, wake_near
 from .statics_paths import map_number, mark_held, statics_phase, statics_scratch
 
 
-def step_tail_calls(world, fps: float, substeps: int = 1, broadphase: str = "auto") -> list:
-    """The kernels run_frames calls after its contact phase, each with arguments of the types it
-    hands them (a stepper's own state, which the calls may change), in the reverse of its
-    order: [(kernel, arguments)]."""
+def far_end_calls(world, fps: float, substeps: int = 1, broadphase: str = "auto") -> list:
+    """The kernels of run_frames' far end, each with arguments of the types run_frames hands them
+    (a stepper's own state, which the calls may change), in the reverse of the order it compiles
+    them: the sleepers' (a world that may sleep), the statics, the solver and the integration,
+    then the contact phase's from its end: [(kernel, arguments)]."""
     stepper = DiscreteStepper(world, fps, substeps, broadphase)
-    b, s, w, dt = stepper.bodies, stepper.statics, stepper.work, stepper.dt
+    b, s, w, dt, sleep = stepper.bodies, stepper.statics, stepper.work, stepper.dt, stepper.sleep
     n, rows, none = len(b.positions), new_rows(4), np.int64(0)
     the_map = map_number(s.segments)
     scratch = statics_scratch(n, s.segments.shape[0])
     log, now, collisions = new_log(4), 0.0, np.zeros(3, np.int64)
     v, turn, m, inertia = b.velocities, b.angular_velocities, w.inverse_masses, w.inverse_inertias
-    return [
+    memory = stepper.memory
+    found, pairs, flags = new_found(4), np.empty((0, 2), np.int64), np.zeros(n, np.bool_)
+    sleeping = [] if sleep.on is None else [
+        (fall_asleep, (sleep, b, rows, none, dt)),
+        (keep_sleepers, (sleep, memory, memory, n, the_map + 1)),
+        (log_carried, (sleep, log, none, none, dt)),
+    ]
+    contact_sleeping = [] if sleep.on is None else [
+        (sleepers_touching, (sleep, b, w.vertices, pairs, flags[:0].copy(), pairs, flags[:0].copy(), s.volumes)),
+        (wake_near, (sleep, b, w.vertices, w.margin, pairs, s.volumes)),
+    ]
+    return sleeping + [
         (statics_phase, (b, s, scratch, dt, log, now, collisions)),
         (mark_held, (rows, none, scratch[3], the_map)),
         (remember, (rows, none, n, the_map + 1)),
@@ -50,13 +65,21 @@ def step_tail_calls(world, fps: float, substeps: int = 1, broadphase: str = "aut
                            w.shift, w.shift_turn, s.pulled)),
         (solve_velocities, (rows, none, v, turn, b.accelerations, m, inertia, s.friction, dt, s.iterations, w.push,
                             w.push_turn, s.pulled)),
-        (recall, (rows, none, stepper.memory, n, the_map + 1)),
+        (recall, (rows, none, memory, n, the_map + 1)),
         (collide, (rows, none, v, turn, b.accelerations, m, inertia, s.restitution, s.friction, s.rest_speed, dt,
                    s.iterations)),
+        (rows_from, (found, none, b, rows)),
+        (segment_manifolds, (b, w.vertices, w.margin, s.segments, found, none, s.volumes, sleep.asleep)),
+        (wall_manifolds, (b, w.vertices, w.margin, dt, s.box, s.rest_speed, flags, found, none, s.volumes,
+                          sleep.asleep)),
+    ] + contact_sleeping + [
+        (pair_manifolds, (b, w.vertices, w.margin, dt, pairs, found, none, flags, flags[:0].copy(), s.volumes,
+                          sleep.asleep, flags)),
+        (near_segments, (b, w.margin, s.segments)),
     ]
 
 
-def compile_step_tail(world, fps: float, substeps: int = 1, broadphase: str = "auto") -> None:
-    """Compile (or load from the cache) the kernels of step_tail_calls, in its order."""
-    for kernel, arguments in step_tail_calls(world, fps, substeps, broadphase):
+def compile_far_end(world, fps: float, substeps: int = 1, broadphase: str = "auto") -> None:
+    """Compile (or load from the cache) the kernels of far_end_calls, in its order."""
+    for kernel, arguments in far_end_calls(world, fps, substeps, broadphase):
         compile_for_compiled_code(kernel, arguments)
