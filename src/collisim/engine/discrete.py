@@ -32,7 +32,7 @@ from collections import namedtuple
 
 import numpy as np
 
-from ..core.arrays import copy_rows
+from ..core.arrays import copy_rows, stable_order
 from ..broadphase.registry import AUTO, choose, step_state
 from ..broadphase.step import candidate_pairs
 from ..core.compiling import compiled
@@ -143,7 +143,7 @@ def sort_pairs(pairs, n):
     keys = pairs[:, 0] * n + pairs[:, 1]
     for k in range(1, keys.shape[0]):
         if keys[k] < keys[k - 1]:
-            return pairs[np.argsort(keys)]
+            return pairs[stable_order(keys)]
     return pairs
 
 

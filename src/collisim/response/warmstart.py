@@ -16,6 +16,7 @@ from collections import namedtuple
 
 import numpy as np
 
+from ..core.arrays import stable_order
 from ..core.compiling import compiled, kernel
 from ..core.kinds import N_WALLS
 from .rows import was_impact
@@ -54,7 +55,7 @@ def remember(rows, count, n, statics=N_WALLS):
         if not was_impact(rows, r) and rows.impulse[r] > 0.0:
             keys[k], impulses[k], frictions[k] = row_key(rows, r, n, statics), rows.impulse[r], rows.friction[r]
             k += 1
-    order = np.argsort(keys[:k])   # rows are in canonical order, but pairs and walls interleave keys
+    order = stable_order(keys[:k])   # rows are in canonical order, but pairs and walls interleave keys
     return Memory(keys[:k][order], impulses[:k][order], frictions[:k][order])
 
 
