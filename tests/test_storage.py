@@ -145,10 +145,13 @@ def test_copy_rows_copies_the_first_rows_and_leaves_the_rest(shape):
 
 
 @settings(max_examples=200, deadline=None)
-@given(st.lists(st.integers(-3, 3), max_size=70), st.booleans())
-def test_stable_order_is_numpys_stable_argsort(values, as_floats):
-    # few distinct values: runs of equal keys, whose order a stable sort keeps (the solver's
-    # warm start and the hold sort by them, and their bytes must not depend on the sort)
-    from collisim.core.arrays import stable_order
-    keys = np.array(values, np.float64 if as_floats else np.int64)
-    assert np.array_equal(stable_order(keys), np.argsort(keys, kind="stable"))
+@given(st.lists(st.integers(-3, 3) | st.integers(-2**63, 2**63 - 1), max_size=70), st.booleans())
+def test_the_kernels_sort_is_numpys_stable_argsort(values, as_floats):
+    # runs of equal keys, whose order a stable sort keeps (the warm start and the hold sort by
+    # them, and their bytes must not depend on the sort), and keys across the whole int64 range
+    from collisim.core.arrays import stable_order, stable_order_of_floats
+    keys = np.array(values, np.int64)
+    if as_floats:   # with -0.0 among them, which numpy takes as equal to 0.0
+        keys = np.where(keys == 1, -0.0, keys / 3.0)
+    order = stable_order_of_floats(keys) if as_floats else stable_order(keys)
+    assert np.array_equal(order, np.argsort(keys, kind="stable"))

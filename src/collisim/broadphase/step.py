@@ -17,7 +17,7 @@ from collections import namedtuple
 
 import numpy as np
 
-from ..core.arrays import stable_order
+from ..core.arrays import stable_order_of_floats
 from ..core.compiling import compiled
 from .brute import brute_force_pairs
 from .bvh import build_bvh, bvh_pairs
@@ -88,7 +88,7 @@ def sweep_pairs(state, lo, hi):
     # Last step's order is nearly sorted: repair it by insertion sort, unless the axis
     # changed or the repair would cost more than a fresh n log n sort.
     if axis != state.axis[0] or repair_order(keys, state.order, n * int(np.ceil(np.log2(n)))) < 0:
-        state.order[:] = stable_order(keys)
+        state.order[:] = stable_order_of_floats(keys)
         state.axis[0] = axis
     return sweep(lo, hi, state.order, axis)
 

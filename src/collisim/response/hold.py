@@ -21,7 +21,7 @@ within 1.4 of each other), which the next step's sweeps take up as before.
 """
 import numpy as np
 
-from ..core.arrays import stable_order
+from ..core.arrays import stable_order_of_floats
 from ..core.compiling import compiled
 from .contact_row import inverses, kicked, load, relative, store
 
@@ -115,7 +115,7 @@ def hold_from_below(rows, rows_of, target, base, per_pull, per_target, accelerat
     heights = np.empty(count)
     for c in range(count):
         heights[c] = _height(rows, rows_of[short[c]], accelerations)
-    for c in stable_order(heights):   # stable: the same bytes on every run
+    for c in stable_order_of_floats(heights):   # stable: the same bytes on every run
         k = short[c]
         r = rows_of[k]
         i, j, nx, ny = I[r], J[r], N[r, 0], N[r, 1]

@@ -32,7 +32,7 @@ import math
 
 import numpy as np
 
-from ...core.arrays import copy_rows, stable_order
+from ...core.arrays import copy_rows, stable_order_of_floats
 from ...broadphase.cells import reach_block, segment_range
 from ...core.compiling import compiled, kernel
 from ...core.geometry.box import wall_geometry
@@ -248,7 +248,7 @@ def carry_sleepers(log, bodies, grid, env, supports, t, woken, count_woken):
             order[count] = i
             height[count] = bodies.pos[i, 0] * env.gravity[0] + bodies.pos[i, 1] * env.gravity[1]   # -height
             count += 1
-    copy_rows(order[:count][stable_order(height)], order, count)   # highest first (arrays.py)
+    copy_rows(order[:count][stable_order_of_floats(height)], order, count)   # highest first (arrays.py)
     for k in range(count):
         i = order[k]
         loaded = supports.load[i, 0] != 0.0 or supports.load[i, 1] != 0.0   # (not: asleep from just now)
