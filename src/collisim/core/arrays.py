@@ -60,8 +60,8 @@ SIGN = np.uint64(1 << 63)
 
 @compiled
 def _radix_order(bits):
-    """The stable order of the unsigned keys (k,): least significant byte first, a counting sort
-    a byte that carries the keys along (a byte all keys share is skipped)."""
+    """The stable order of the unsigned keys (k,): a counting sort on each byte, least
+    significant first, carrying the keys along (a byte all keys share is skipped)."""
     n = bits.shape[0]
     order, spare_order = np.arange(n), np.empty(n, np.int64)
     spare_bits, count = np.empty(n, np.uint64), np.empty(257, np.int64)

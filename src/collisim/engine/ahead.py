@@ -93,7 +93,8 @@ def _stop(slot: queue.Queue, taken: threading.Semaphore, stop: threading.Event) 
 
 
 def computing() -> bool:
-    """Whether a worker is still computing a block (the first one compiles the engine)."""
+    """Whether a worker is still running: computing a block (the first one compiles the engine),
+    or holding one not yet taken."""
     return any(thread.is_alive() for thread, _ in _workers)
 
 
