@@ -55,3 +55,12 @@ def test_the_helper_starts_on_a_first_run_and_ends_with_the_render_leaving_no_fi
     assert helper is not None and helper.poll() is None and len(os.listdir(temporary)) == 1   # its world
     warm.stop(helper)   # as the render does when it ends, fails or is interrupted
     assert helper.poll() is not None and os.listdir(temporary) == []
+
+
+def test_no_helper_starts_once_the_step_is_in_the_cache():
+    # a run of the discrete step leaves it in this process's cache folder: a render after it
+    # is no first run, and starts no second process
+    scene = collisim.load_scene("particles_250")
+    collisim.simulate(scene.replace(seconds=1.0 / scene.fps))
+    assert warm.kernels_cached()
+    assert warm.start(scene) is None

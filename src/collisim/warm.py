@@ -1,11 +1,11 @@
 """A render's first run, compiled by two processes: the render's own, and a helper started here.
 
-On a fresh install (no kernel in the cache folder yet: core/compiling.py) `collisim render`
-starts this module as a second process (`start`), on the scene's world. While the render compiles
-the discrete step from its contact phases on, the helper compiles the step's far end
+On a fresh install (no discrete step in the cache folder yet: core/compiling.py) `collisim
+render` starts this module as a second process (`start`), on the scene's world. While the render
+compiles the discrete step from its start, the helper compiles it from its far end
 (engine/warm.py) and then the disc and ring kernels of the drawing, and saves them into the
-cache, where the render finds them and loads them instead of compiling them. On 2 cores the first
-frame of particles_250 came in about half the time (docs/benchmarks.md, the first run).
+cache, where the render finds them and loads them instead of compiling them (docs/benchmarks.md,
+the first run).
 
 The helper writes nothing but kernels into the cache, prints nothing, and is ended with the
 render (`stop`) whether the render ends, fails or is interrupted; left alone it ends by itself once
@@ -25,6 +25,7 @@ import numba
 import numpy as np
 
 from .core import compiling
+from .engine.discrete import run_frames
 from .engine.warm import compile_far_end
 from .render import splat
 
@@ -43,8 +44,9 @@ def _discrete_world(scene):
 
 def kernels_cached() -> bool:
     """Whether the cache folder holds the discrete step already (for some world)."""
-    folder = numba.config.CACHE_DIR
-    return bool(folder) and bool(glob.glob(os.path.join(folder, "engine_*", "discrete.run_frames-*.nbi")))
+    folder = numba.config.CACHE_DIR   # (the step is called from Python: its copy's entries)
+    step = f"discrete.{run_frames.__name__}{compiling.FROM_PYTHON}-*.nbi"
+    return bool(folder) and bool(glob.glob(os.path.join(folder, "engine_*", step)))
 
 
 def start(scene) -> subprocess.Popen | None:

@@ -35,8 +35,8 @@ def stable_order(keys):
     """The indices (k,) int64 that put the integer keys (k,) in ascending order, equal keys in
     the order given: np.argsort(keys, kind="stable"). The kernels sort with this and
     stable_order_of_floats alone: numba's own argsort compiles a sort of its own for every kind
-    and key type asked of it (its quicksort and its mergesort cost a first frame 1 to 2 s of
-    compiling), and this radix sort is faster than its quicksort from a thousand keys up."""
+    and key type asked of it, and this radix sort is faster than its quicksort from a thousand
+    keys up (docs/design.md, compiling)."""
     bits = np.empty(keys.shape[0], np.uint64)
     for k in range(keys.shape[0]):
         bits[k] = np.uint64(keys[k]) ^ SIGN   # two's complement -> unsigned, in the same order

@@ -4,11 +4,11 @@
 function as an overload (numba.extending.overload, as numba's own library functions are
 written): compiled without the CPython and C wrappers a function needs only to be called from
 Python, as numba compiles every overload. Most kernels are called from compiled code alone, and
-those wrappers were a fifth of a first frame's compiling (docs/benchmarks.md). Called from
+those wrappers were a large share of a first frame's compiling (docs/benchmarks.md). Called from
 Python, the kernel is compiled once more, on that first call, with its wrappers, into a cache
-entry of its own (a copy of the function named NAME_from_python: numba keys a cache entry to the
-function's name and signature, not to how it was compiled, and an entry without the wrapper,
-called from Python, would crash the process).
+entry of its own (a copy of the function named NAME + FROM_PYTHON: numba keys a cache entry to
+the function's name and signature, not to how it was compiled, and an entry without the
+wrapper, called from Python, would crash the process).
 
 `kernel`: compiled(error_model="numpy", _nrt=False), for the functions run at
 every contact or event, which allocate nothing and return no array. Division by zero gives inf
@@ -63,6 +63,7 @@ except ImportError:   # Windows: no file locks here, so saves do not take turns 
     fcntl = None
 
 PACKAGE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))   # collisim/
+FROM_PYTHON = "_from_python"   # the name's suffix of the copy a kernel's calls from Python compile
 
 
 def compiled(function=None, **options):
@@ -80,19 +81,15 @@ def compiled(function=None, **options):
         if not from_python:
             with made:
                 if not from_python:
-                    from_python.append(njit(**options)(_copy_named(function, "_from_python")))
+                    from_python.append(njit(**options)(_copy_named(function, FROM_PYTHON)))
         return from_python[0](*args, **kwargs)
 
-    overload(call_from_python, jit_options=for_compiled_code(options), strict=False)(
+    # what compiled code compiles, and how (compile_for_compiled_code too)
+    call_from_python.function = function
+    call_from_python.compiled_code_options = dict(options, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+    overload(call_from_python, jit_options=call_from_python.compiled_code_options, strict=False)(
         lambda *args, **kwargs: function)
-    call_from_python.function = function   # what compiled code compiles (engine/warm.py)
-    call_from_python.options = options
     return call_from_python
-
-
-def for_compiled_code(options: dict) -> dict:
-    """The jit options of a kernel where compiled code calls it: without the wrappers."""
-    return dict(options, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 
 
 def _copy_named(function, suffix: str):
@@ -107,7 +104,7 @@ def _copy_named(function, suffix: str):
 def compile_for_compiled_code(kernel, arguments) -> None:
     """Compile (or load from the cache) `kernel` as compiled code calls it with `arguments`
     (engine/warm.py): into the cache entries its compiled callers load."""
-    njit(**for_compiled_code(kernel.options))(kernel.function).compile(tuple(numba.typeof(a) for a in arguments))
+    njit(**kernel.compiled_code_options)(kernel.function).compile(tuple(numba.typeof(a) for a in arguments))
 
 
 def kernel(function):

@@ -44,13 +44,14 @@ def far_end_calls(world, fps: float, substeps: int = 1, broadphase: str = "auto"
     v, turn, m, inertia = b.velocities, b.angular_velocities, w.inverse_masses, w.inverse_inertias
     memory = stepper.memory
     found, pairs, flags = new_found(4), np.empty((0, 2), np.int64), np.zeros(n, np.bool_)
+    no_touching = np.zeros(0, np.bool_)   # which of the (no) pairs touch
     sleeping = [] if sleep.on is None else [
         (fall_asleep, (sleep, b, rows, none, dt)),
         (keep_sleepers, (sleep, memory, memory, n, the_map + 1)),
         (log_carried, (sleep, log, none, none, dt)),
     ]
     contact_sleeping = [] if sleep.on is None else [
-        (sleepers_touching, (sleep, b, w.vertices, pairs, flags[:0].copy(), pairs, flags[:0].copy(), s.volumes)),
+        (sleepers_touching, (sleep, b, w.vertices, pairs, no_touching, pairs, no_touching, s.volumes)),
         (wake_near, (sleep, b, w.vertices, w.margin, pairs, s.volumes)),
     ]
     return sleeping + [
@@ -73,7 +74,7 @@ def far_end_calls(world, fps: float, substeps: int = 1, broadphase: str = "auto"
         (wall_manifolds, (b, w.vertices, w.margin, dt, s.box, s.rest_speed, flags, found, none, s.volumes,
                           sleep.asleep)),
     ] + contact_sleeping + [
-        (pair_manifolds, (b, w.vertices, w.margin, dt, pairs, found, none, flags, flags[:0].copy(), s.volumes,
+        (pair_manifolds, (b, w.vertices, w.margin, dt, pairs, found, none, flags, no_touching, s.volumes,
                           sleep.asleep, flags)),
         (near_segments, (b, w.margin, s.segments)),
     ]
