@@ -170,6 +170,17 @@ def test_two_boxes(method):
     assert find_pairs(method, lo, hi).shape == (0, 2)
 
 
+def test_a_point_on_a_segment_narrower_than_any_normal_float(method):
+    """The example hypothesis found (box_arrays draws subnormal extents): a point at the
+    origin and a segment 2.2e-311 tall from it. The grid's default cells were as narrow as
+    the segment, 1 / cell_size overflowed to inf, the grid's shape to garbage, and the
+    touching pair went unreported."""
+    lo = np.zeros((2, 2))
+    hi = np.array([[0.0, 0.0], [0.0, 2.2250738585e-311]])
+    assert_matches_reference(method, lo, hi)
+    assert find_pairs(method, lo, hi).tolist() == [[0, 1]]
+
+
 @pytest.mark.parametrize("cell_size", [0.3, 1.0, 2.5, 7.0, 1000.0])
 def test_grid_with_explicit_cell_size(cell_size):
     lo, hi = gas(300, 60, seed=6)
@@ -368,6 +379,15 @@ def test_grid_refuses_an_absurd_number_of_cells():
     with pytest.raises(ValueError, match="cell_size"):
         find_pairs("grid", np.array([[0.0, 0.0], [1e6, 1e6]]), np.array([[1.0, 1.0], [1e6, 1e6]]),
                    cell_size=1e-3)
+
+
+@pytest.mark.parametrize("cell_size", [1e-300, 1e-320])
+def test_grid_refuses_a_cell_size_whose_grid_overflows(cell_size):
+    """1e300 cells a side (or 1 / cell_size = inf) once wrapped around int64 to an empty grid,
+    which reported no pairs at all."""
+    with pytest.raises(ValueError, match="cell_size"):
+        find_pairs("grid", np.array([[0.0, 0.0], [1.0, 1.0]]), np.array([[2.0, 2.0], [3.0, 3.0]]),
+                   cell_size=cell_size)
 
 
 @pytest.mark.parametrize("values", [

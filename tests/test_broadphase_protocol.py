@@ -154,6 +154,14 @@ def test_query_degenerate_boxes(method):
     assert assert_query(method, lo, hi, [3.5, 3.5], [4.9, 6]).size == 0
 
 
+def test_query_and_ray_on_a_segment_narrower_than_any_normal_float(method):
+    """A point and a segment 2.2e-311 tall on it: the grid's default cells were as narrow, 1 /
+    cell_size overflowed, and its query read cells outside its arrays (the process crashed)."""
+    lo, hi = np.zeros((2, 2)), np.array([[0.0, 0.0], [0.0, 2.2250738585e-311]])
+    assert assert_query(method, lo, hi, [0, 0], [0, 0]).tolist() == [0, 1]
+    assert assert_raycast(method, lo, hi, [-1, 0], [1, 0], 5.0)[0].tolist() == [0, 1]
+
+
 def test_query_around_a_large_box(method):
     rng = np.random.default_rng(2)
     lo = np.vstack(([[-50.0, -50.0]], rng.uniform(0, 100, (200, 2))))
