@@ -41,24 +41,32 @@ from ._common import (BroadPhase, bounding_box, box_meets_query, boxes_overlap, 
 from .grid_walk import grid_raycast
 
 MAX_CELLS = 1 << 24  # 16.8 million cells: 134 MB of cell_start alone
+# The narrowest cell: the smallest normal float (2.2e-308). Below about 5.6e-309, 1 / cell_size
+# overflows to inf, and (x - origin) * inf is inf or nan, no cell at all. The pairs are right at
+# any cell size; narrower cells would only spread boxes a few subnormals wide over more cells.
+NARROWEST_CELL = float(np.finfo(np.float64).tiny)
 
 
 def default_cell_size(lo: np.ndarray, hi: np.ndarray) -> float:
-    """Twice the median box extent, widened so the grid has about 4n cells at most."""
+    """Twice the median box extent, widened so the grid has about 4n cells at most, and to
+    NARROWEST_CELL (boxes a few subnormal floats wide); 1.0 when every box is one point."""
     extents = np.maximum(hi[:, 0] - lo[:, 0], hi[:, 1] - lo[:, 1])
     corner_lo, corner_hi = bounding_box(lo, hi)
     span = np.max(corner_hi - corner_lo)
     size = max(2.0 * float(np.median(extents)), float(span) / np.sqrt(4 * len(lo)))
-    return size if size > 0 else 1.0
+    return max(size, NARROWEST_CELL) if size > 0 else 1.0
 
 
 def grid_layout(lo: np.ndarray, hi: np.ndarray, cell_size: float) -> tuple[np.ndarray, tuple[int, int]]:
     """Origin (2,) and shape (nx, ny) of a grid of `cell_size` cells covering all boxes."""
     origin, corner_hi = bounding_box(lo, hi)
-    # The same arithmetic as cell_of, so the last box lands in the last cell.
-    nx, ny = (np.floor((corner_hi - origin) * (1.0 / cell_size)) + 1).astype(np.int64)
-    if nx * ny > MAX_CELLS:
-        raise ValueError(f"cell_size={cell_size:g} gives a {nx} x {ny} grid "
+    # The same arithmetic as cell_of, so the last box lands in the last cell. Counted in floats
+    # and checked before they become integers: a count past 2^63 (or its square) wraps around
+    # int64, to a grid of no cells that pairs nothing.
+    with np.errstate(over="ignore"):
+        nx, ny = np.floor((corner_hi - origin) * (1.0 / cell_size)) + 1
+    if not float(nx) * float(ny) <= MAX_CELLS:
+        raise ValueError(f"cell_size={cell_size:g} gives a {nx:g} x {ny:g} grid "
                          f"(more than {MAX_CELLS} cells); use a larger cell_size")
     return origin, (int(nx), int(ny))
 
@@ -217,6 +225,8 @@ class UniformGrid(BroadPhase):
     def __init__(self, cell_size=None):
         super().__init__()
         self.cell_size = None if cell_size is None else check_positive_option("cell_size", cell_size)
+        if self.cell_size is not None and self.cell_size < NARROWEST_CELL:
+            raise ValueError(f"cell_size must be at least {NARROWEST_CELL:g}; got {cell_size!r}")
 
     def _bin(self, lo: np.ndarray, hi: np.ndarray):
         cell_size = default_cell_size(lo, hi) if self.cell_size is None else self.cell_size
