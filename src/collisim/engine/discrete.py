@@ -43,7 +43,8 @@ from ..response.hold import held_note
 from ..response.pair_rows import pair_manifolds
 from ..response.rows import (margin_of, margins, near_segments, new_found, new_rows, rows_from, segment_manifolds,
                              wall_manifolds, was_impact)
-from ..response.solver import add_contact_motion, collide, come_to_rest, solve_positions, solve_velocities
+from ..response.solve import flags_of, hold_contacts, rest_contacts, solver_of
+from ..response.solver import add_contact_motion, collide
 from ..response.warmstart import no_memory, recall, remember
 from ..statics.segment_index import build_segment_index
 from .frames import constant_angles, new_frames
@@ -64,8 +65,8 @@ ITERATIONS = 20   # sweeps of the contact solver per step (response/solver.py)
 Bodies = namedtuple("Bodies", ["shapes", "positions", "velocities", "angles", "angular_velocities",
                                "accelerations", "radii", "masses", "inertias", "vertex_start", "body_vertices"])
 Statics = namedtuple("Statics", ["box", "segments", "index", "map", "restitution", "rest_speed", "iterations",
-                                 "friction", "volumes", "pulled", "keep"],
-                     defaults=(0.0, ITERATIONS, 0.0, None, None, 1.0))
+                                 "friction", "volumes", "pulled", "keep", "soft", "rigid"],
+                     defaults=(0.0, ITERATIONS, 0.0, None, None, 1.0, None, True))
 Statics.__doc__ = """What bodies meet besides each other: box (4,), segments (m, 4) and their index, the
 collision map's field (index and map None when the world has none: see statics_paths.py); and
 how contacts respond: restitution e, the rest speed below which a contact rests instead of
@@ -74,7 +75,9 @@ velocity a body keeps over a step (World.damping ** dt, 1 without damping); volu
 with polygons, whose frames count the bounding-volume funnel (narrowphase/hierarchy.py) and
 whose contact phases compile the polygon paths (narrowphase/manifold.py), else None; pulled True
 where a body has an acceleration, else None: with nothing pulling the hold (response/hold.py)
-holds nothing, and is not compiled."""
+holds nothing, and is not compiled; soft True and rigid None where the soft step holds the
+contacts (response/solve.py), soft None and rigid True where the rigid solve does: numba leaves
+out a branch on `is None` only for an argument typed None, so each solver has its flag.""" 
 Contacts = namedtuple("Contacts", ["found", "rows", "count", "pairs", "touching"])
 Contacts.__doc__ = """The contacts the next step starts from, kept from block to block (finding them again at
 each block's start cost a whole broad and narrow phase: a block is one frame at a million
@@ -284,11 +287,9 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
                 collide(rows, count, v, w, b.accelerations, m, inertia, s.restitution, s.friction, s.rest_speed, dt,
                         s.iterations)
                 recall(rows, count, memory, n, statics_count)
-                propped = solve_velocities(rows, count, v, w, b.accelerations, m, inertia, s.friction, dt,
-                                           s.iterations, push, push_turn, s.pulled)
-                propped += solve_positions(rows, count, v, w, b.accelerations, m, inertia, dt, s.iterations, push,
-                                           push_turn, shift, shift_turn, s.pulled)   # > 0: held (hold.py)
-                out.approximate[frame] = out.approximate[frame] or propped > 0   # momentum is not exact
+                propped = hold_contacts(s.soft, s.rigid, rows, count, b.radii, v, w, b.accelerations, m, inertia, s.friction,
+                                        dt, s.iterations, s.keep, s.pulled, push, push_turn, shift, shift_turn, moved)
+                out.approximate[frame] = out.approximate[frame] or propped > 0   # held: momentum is not exact
             t = _lap(phase_cycles, RESPONSE, t)
             keep_starts(s.volumes, b, work.fast)
             integrate(b.positions, b.velocities, b.accelerations, b.angles, b.angular_velocities, dt, s.keep)
@@ -296,7 +297,7 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
                 add_contact_motion(b, rows, count, push, push_turn, shift, shift_turn, dt, moved)
             t = _lap(phase_cycles, INTEGRATE, t)
             if count > 0:
-                come_to_rest(rows, count, v, w, m, inertia, s.friction)
+                rest_contacts(s.rigid, rows, count, v, w, m, inertia, s.friction)
                 log = _log_contacts(rows, count, log, now, frame_collisions, the_map)
             if sleep.carried_count[0] > 0:
                 log = carry(sleep, log, step_count, 1, dt)
@@ -355,7 +356,7 @@ class DiscreteStepper:
         volumes = True if np.any(w.shapes != CIRCLE) else None
         self.statics = Statics(w.box, w.segments, index, field, float(w.restitution), 2.0 * pull * self.dt,
                                ITERATIONS, float(w.friction), volumes, True if pull > 0.0 else None,
-                               float(w.damping) ** self.dt)
+                               float(w.damping) ** self.dt, *flags_of(solver_of(w)))
         self.memory = no_memory()
         # room for contacts grows with what a step finds (rows are zeroed, so room held for 8
         # contacts a body cost 0.8 GB at a million bodies)

@@ -3,7 +3,8 @@
 numba compiles one kernel at a time in a process, and compiles a kernel's callees as it types
 the kernel, in the order its source calls them: `run_frames` (discrete.py) first compiles its
 contact phase (from its start: the broad phase, the pairs' rows, the walls' and the segments'),
-then the solver, the integration, the statics and the sleepers'. A second process that compiles
+then the solver (the soft step or the rigid solve: discrete.solver_of), the integration, the
+statics and the sleepers'. A second process that compiles
 these from the far end for the same world, while the first works through them from the start,
 saves them into the kernel cache (core/compiling.py: processes compile side by side and take
 turns to save), where the first finds them when it gets there and loads them instead; the two
@@ -21,7 +22,8 @@ import numpy as np
 from ..core.compiling import compile_for_compiled_code
 from ..response.pair_rows import pair_manifolds
 from ..response.rows import near_segments, new_found, new_rows, rows_from, segment_manifolds, wall_manifolds
-from ..response.solver import add_contact_motion, collide, come_to_rest, solve_positions, solve_velocities
+from ..response.solve import hold_contacts, rest_contacts
+from ..response.solver import add_contact_motion, collide
 from ..response.warmstart import recall, remember
 from .discrete import DiscreteStepper, _log_contacts
 from .eventlog import new_log
@@ -59,13 +61,11 @@ def far_end_calls(world, fps: float, substeps: int = 1, broadphase: str = "auto"
         (mark_held, (rows, none, scratch[3], the_map)),
         (remember, (rows, none, n, the_map + 1)),
         (_log_contacts, (rows, none, log, now, collisions, the_map)),
-        (come_to_rest, (rows, none, v, turn, m, inertia, s.friction)),
+        (rest_contacts, (s.rigid, rows, none, v, turn, m, inertia, s.friction)),
         (add_contact_motion, (b, rows, none, w.push, w.push_turn, w.shift, w.shift_turn, dt, w.moved)),
         (integrate, (b.positions, v, b.accelerations, b.angles, turn, dt, s.keep)),
-        (solve_positions, (rows, none, v, turn, b.accelerations, m, inertia, dt, s.iterations, w.push, w.push_turn,
-                           w.shift, w.shift_turn, s.pulled)),
-        (solve_velocities, (rows, none, v, turn, b.accelerations, m, inertia, s.friction, dt, s.iterations, w.push,
-                            w.push_turn, s.pulled)),
+        (hold_contacts, (s.soft, s.rigid, rows, none, b.radii, v, turn, b.accelerations, m, inertia, s.friction, dt,
+                         s.iterations, s.keep, s.pulled, w.push, w.push_turn, w.shift, w.shift_turn, w.moved)),
         (recall, (rows, none, memory, n, the_map + 1)),
         (collide, (rows, none, v, turn, b.accelerations, m, inertia, s.restitution, s.friction, s.rest_speed, dt,
                    s.iterations)),
