@@ -12,7 +12,7 @@ Impacts are Newton's either way (solver.collide). What rests is held
   solve keeps it to rounding) and whose columns it holds without the springs' give; and a world
   of very unequal masses, where a heavy body on light ones needs the rigid solve's hold from
   below (hold.py): under the soft step's springs a ball 1000 times heavier than the one under
-  it sank 4 % of a radius into it, and one 10⁶ times heavier sank through.
+  it sank 8 % of a radius into it, and one 10⁶ times heavier sank through.
 
 The choice is made once a run (`solver_of`) and handed to the step as two flags, soft and rigid,
 one True and the other None (`flags_of`): numba leaves out a branch on `flag is not None` only
