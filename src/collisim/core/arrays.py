@@ -30,6 +30,9 @@ def copy_rows(source, target, count):
         flat_target[k] = flat_source[k]
 
 
+SIGN = np.uint64(1 << 63)
+
+
 @compiled
 def stable_order(keys):
     """The indices (k,) int64 that put the integer keys (k,) in ascending order, equal keys in
@@ -55,17 +58,14 @@ def stable_order_of_floats(keys):
     return _radix_order(bits)
 
 
-SIGN = np.uint64(1 << 63)
-
-
 @compiled
 def _radix_order(bits):
     """The stable order of the unsigned keys (k,): a counting sort on each byte, least
-    significant first, carrying the keys along (a byte all keys share is skipped)."""
+    significant first, carrying the keys along (a byte all keys share is skipped). The keys are
+    the caller's scratch: they end up permuted."""
     n = bits.shape[0]
     order, spare_order = np.arange(n), np.empty(n, np.int64)
     spare_bits, count = np.empty(n, np.uint64), np.empty(257, np.int64)
-    bits = bits.copy()
     for byte in range(8):
         shift = np.uint64(8 * byte)
         first = _digit(bits, 0, shift) if n > 0 else 0

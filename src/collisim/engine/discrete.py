@@ -77,7 +77,7 @@ whose contact phases compile the polygon paths (narrowphase/manifold.py), else N
 where a body has an acceleration, else None: with nothing pulling the hold (response/hold.py)
 holds nothing, and is not compiled; soft True and rigid None where the soft step holds the
 contacts (response/solve.py), soft None and rigid True where the rigid solve does: numba leaves
-out a branch on `is None` only for an argument typed None, so each solver has its flag.""" 
+out a branch on `is None` only for an argument typed None, so each solver has its flag."""
 Contacts = namedtuple("Contacts", ["found", "rows", "count", "pairs", "touching"])
 Contacts.__doc__ = """The contacts the next step starts from, kept from block to block (finding them again at
 each block's start cost a whole broad and narrow phase: a block is one frame at a million
@@ -287,8 +287,9 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
                 collide(rows, count, v, w, b.accelerations, m, inertia, s.restitution, s.friction, s.rest_speed, dt,
                         s.iterations)
                 recall(rows, count, memory, n, statics_count)
-                propped = hold_contacts(s.soft, s.rigid, rows, count, b.radii, v, w, b.accelerations, m, inertia, s.friction,
-                                        dt, s.iterations, s.keep, s.pulled, push, push_turn, shift, shift_turn, moved)
+                propped = hold_contacts(s.soft, s.rigid, rows, count, b.radii, v, w, b.accelerations, m, inertia,
+                                        s.friction, dt, s.iterations, s.keep, s.pulled, push, push_turn, shift,
+                                        shift_turn, moved)
                 out.approximate[frame] = out.approximate[frame] or propped > 0   # held: momentum is not exact
             t = _lap(phase_cycles, RESPONSE, t)
             keep_starts(s.volumes, b, work.fast)

@@ -3,12 +3,11 @@
 numba compiles one kernel at a time in a process, and compiles a kernel's callees as it types
 the kernel, in the order its source calls them: `run_frames` (discrete.py) first compiles its
 contact phase (from its start: the broad phase, the pairs' rows, the walls' and the segments'),
-then the solver (the soft step or the rigid solve: discrete.solver_of), the integration, the
-statics and the sleepers'. A second process that compiles
-these from the far end for the same world, while the first works through them from the start,
-saves them into the kernel cache (core/compiling.py: processes compile side by side and take
-turns to save), where the first finds them when it gets there and loads them instead; the two
-meet in the middle.
+then the solver (the soft step or the rigid solve: response/solve.py), the integration, the
+statics and the sleepers'. A second process that compiles these from the far end for the same
+world, while the first works through them from the start, saves them into the kernel cache
+(core/compiling.py: processes compile side by side and take turns to save), where the first
+finds them when it gets there and loads them instead; the two meet in the middle.
 
 `compile_far_end` compiles each kernel as compiled code calls it
 (core/compiling.compile_for_compiled_code), for the types of a stepper's own state with no

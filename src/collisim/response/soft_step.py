@@ -37,7 +37,7 @@ import math
 import numpy as np
 
 from ..core.compiling import compiled
-from .contact_row import block, couplings, kicked, relative
+from .contact_row import block, couplings, inverses, kicked, load, relative, store
 
 SWEEPS = 20        # a substep's sweeps at most: they run while each changes the impulses by less
 SHRINK = 0.5       # than SHRINK times the sweep before (converging, not cycling over friction), to
@@ -80,34 +80,39 @@ def soft_step(rows, count, radii, lin, ang, accelerations, inverse_masses, inver
     bodies = _gather(rows.i, rows.j, count, moved)
     k = bodies.shape[0]
     slot = np.empty(radii.shape[0], np.int64)   # only the rows' bodies' entries are read
-    v, w, d = np.empty((k, 3)), np.empty((k, 3)), np.zeros((k, 3))
-    pull, inverse = np.empty((k, 2)), np.empty((k, 2))
+    # per slot, as (linear (k, 2), turning (k,)): the velocity v at the substep's start, the mean
+    # velocity w, the move d since the rows were made; and 1/m, 1/I
+    v, w, d = (np.empty((k, 2)), np.empty(k)), (np.empty((k, 2)), np.empty(k)), (np.zeros((k, 2)), np.zeros(k))
+    inverse = (inverse_masses[bodies], inverse_inertias[bodies])
     for q in range(k):
         i = bodies[q]
         slot[i] = q
-        v[q, 0], v[q, 1], v[q, 2] = keep * lin[i, 0], keep * lin[i, 1], keep * ang[i]
-        pull[q, 0], pull[q, 1] = accelerations[i, 0], accelerations[i, 1]
-        inverse[q, 0], inverse[q, 1] = inverse_masses[i], inverse_inertias[i]
+        v[0][q, 0], v[0][q, 1], v[1][q] = keep * lin[i, 0], keep * lin[i, 1], keep * ang[i]
     h = dt / SUBSTEPS
     si, sj, spring = _row_springs(rows.i, rows.j, count, radii, slot, h)
     N, L, gap, mass, mass_t, partner = rows.normal, rows.lever, rows.gap, rows.mass, rows.mass_t, rows.partner
     n_acc, t_acc = rows.impulse[:count] / SUBSTEPS, rows.friction[:count] / SUBSTEPS
     cold = np.flatnonzero(n_acc == 0.0)   # rows without an impulse to start from
     n_sum, t_sum = np.zeros(count), np.zeros(count)
+    everything = np.arange(count)
     for _ in range(SUBSTEPS):
         for q in range(k):
-            w[q, 0], w[q, 1], w[q, 2] = v[q, 0] + 0.5 * h * pull[q, 0], v[q, 1] + 0.5 * h * pull[q, 1], v[q, 2]
+            i = bodies[q]
+            for axis in range(2):
+                w[0][q, axis] = v[0][q, axis] + 0.5 * h * accelerations[i, axis]
+            w[1][q] = v[1][q]
         _warm_start(si, sj, N, L, count, inverse, w, n_acc, t_acc)
-        everything = np.arange(count)
         _sweeps(everything, si, sj, N, L, gap, mass, mass_t, partner, spring, inverse, w, d, n_acc, t_acc, friction,
                 h, True, SWEEPS)
         if cold.shape[0] > 0:
             _sweeps(cold, si, sj, N, L, gap, mass, mass_t, partner, spring, inverse, w, d, n_acc, t_acc, friction,
                     h, True, COLD_SWEEPS)
         for q in range(k):
-            for axis in range(3):
-                d[q, axis] += w[q, axis] * h
-                v[q, axis] = 2.0 * w[q, axis] - v[q, axis]
+            for axis in range(2):
+                d[0][q, axis] += w[0][q, axis] * h
+                v[0][q, axis] = 2.0 * w[0][q, axis] - v[0][q, axis]
+            d[1][q] += w[1][q] * h
+            v[1][q] = 2.0 * w[1][q] - v[1][q]
         _sweeps(everything, si, sj, N, L, gap, mass, mass_t, partner, spring, inverse, v, d, n_acc, t_acc, friction,
                 h, False, SWEEPS)
         if cold.shape[0] > 0:
@@ -120,8 +125,8 @@ def soft_step(rows, count, radii, lin, ang, accelerations, inverse_masses, inver
     rows.friction[:count] = t_sum
     rows.pseudo[:count] = 0.0
     for q in range(k):
-        i = bodies[q]
-        _as_push_and_shift(lin, ang, accelerations, keep, dt, i, v[q], d[q], push_lin, push_ang, shift_lin, shift_ang)
+        _as_push_and_shift(lin, ang, accelerations, keep, dt, bodies[q], q, v, d, push_lin, push_ang, shift_lin,
+                           shift_ang)
 
 
 @compiled
@@ -168,32 +173,9 @@ def _warm_start(si, sj, N, L, count, inverse, w, n_acc, t_acc):
     for r in range(count):
         if n_acc[r] != 0.0 or t_acc[r] != 0.0:
             i, j = si[r], sj[r]
-            vel = kicked(_load3(w, i, j), _inverses(inverse, i, j), j, N[r, 0], N[r, 1], L[r, 0], L[r, 1], L[r, 2],
-                         L[r, 3], 0.5 * n_acc[r], 0.5 * t_acc[r])
-            _store3(w, i, j, vel)
-
-
-@compiled
-def _load3(w, i, j):
-    """Slots i's and j's rows of w (k, 3) as contact_row.load gives them (zeros for j < 0)."""
-    if j >= 0:
-        return w[i, 0], w[i, 1], w[i, 2], w[j, 0], w[j, 1], w[j, 2]
-    return w[i, 0], w[i, 1], w[i, 2], 0.0, 0.0, 0.0
-
-
-@compiled
-def _inverses(inverse, i, j):
-    """As contact_row.inverses, for slots: inverse (k, 2) holds 1/m and 1/I."""
-    if j >= 0:
-        return inverse[i, 0], inverse[i, 1], inverse[j, 0], inverse[j, 1]
-    return inverse[i, 0], inverse[i, 1], 0.0, 0.0
-
-
-@compiled
-def _store3(w, i, j, vel):
-    w[i, 0], w[i, 1], w[i, 2] = vel[0], vel[1], vel[2]
-    if j >= 0:
-        w[j, 0], w[j, 1], w[j, 2] = vel[3], vel[4], vel[5]
+            vel = kicked(load(w[0], w[1], i, j), inverses(inverse[0], inverse[1], i, j), j, N[r, 0], N[r, 1],
+                         L[r, 0], L[r, 1], L[r, 2], L[r, 3], 0.5 * n_acc[r], 0.5 * t_acc[r])
+            store(w[0], w[1], i, j, vel)
 
 
 @compiled
@@ -225,7 +207,7 @@ def _sweeps(which, si, sj, N, L, gap, mass, mass_t, partner, spring, inverse, ve
 @compiled
 def _sweep(which, si, sj, N, L, gap, mass, mass_t, partner, spring, inverse, vel, d, n_acc, t_acc, friction, h,
            biased):
-    """One sweep over the rows `which` (ascending) on the slots' velocities vel (k, 3): biased,
+    """One sweep over the rows `which` (ascending) on the slots' velocities vel: biased,
     the substep's solve on the mean velocities (an impulse moves them by half); else the relax
     on the final ones. The two points of a face on a face are solved together
     (contact_row.block), so a box landing flat does not start to turn. Returns the largest
@@ -236,9 +218,9 @@ def _sweep(which, si, sj, N, L, gap, mass, mass_t, partner, spring, inverse, vel
     while q < which.shape[0]:
         r = which[q]
         i, j, nx, ny = si[r], sj[r], N[r, 0], N[r, 1]
-        m = _inverses(inverse, i, j)
-        v = _load3(vel, i, j)
-        moved = _load3(d, i, j)   # how far the bodies moved the row's point apart since it was made
+        m = inverses(inverse[0], inverse[1], i, j)
+        v = load(vel[0], vel[1], i, j)
+        moved = load(d[0], d[1], i, j)   # how far the bodies moved the row's point apart since it was made
         target, scale, soften = _goal(gap[r] + relative(moved, j, nx, ny, L[r, 0], L[r, 2]), h, biased, spring[r])
         closing = relative(v, j, nx, ny, L[r, 0], L[r, 2])
         s = r + 1
@@ -263,7 +245,7 @@ def _sweep(which, si, sj, N, L, gap, mass, mass_t, partner, spring, inverse, vel
                         v, t_acc[p] = _friction(v, m, j, nx, ny, L[p, 0], L[p, 1], L[p, 2], L[p, 3], mass_t[p], half,
                                                 friction * n_acc[p], before)
                         change = max(change, abs(t_acc[p] - before))
-                _store3(vel, i, j, v)
+                store(vel[0], vel[1], i, j, v)
                 q += 2
                 continue
         total = max(n_acc[r] - mass[r] * scale * (closing - target) / half - soften * n_acc[r], 0.0)
@@ -275,7 +257,7 @@ def _sweep(which, si, sj, N, L, gap, mass, mass_t, partner, spring, inverse, vel
             v, t_acc[r] = _friction(v, m, j, nx, ny, L[r, 0], L[r, 1], L[r, 2], L[r, 3], mass_t[r], half,
                                     friction * total, before)
             change = max(change, abs(t_acc[r] - before))
-        _store3(vel, i, j, v)
+        store(vel[0], vel[1], i, j, v)
         q += 1
     return change, largest
 
@@ -290,14 +272,14 @@ def _friction(v, m, j, nx, ny, l0, l1, l2, l3, mass_t, half, bound, accumulated)
 
 
 @compiled
-def _as_push_and_shift(lin, ang, accelerations, keep, dt, i, v, d, push_lin, push_ang, shift_lin, shift_ang):
-    """Body i's end velocity v (3,) and move d (3,) as the contacts' share of the step: the
+def _as_push_and_shift(lin, ang, accelerations, keep, dt, i, q, v, d, push_lin, push_ang, shift_lin, shift_ang):
+    """Body i's end velocity and move (slot q of v and d) as the contacts' share of the step: the
     integration gives keep·v0 + a·dt and keep·v0·dt + ½·a·dt², add_contact_motion adds 2·push to
     the velocity and (push + shift)·dt to the position."""
     for axis in range(2):
-        push = 0.5 * (v[axis] - keep * lin[i, axis] - accelerations[i, axis] * dt)
+        push = 0.5 * (v[0][q, axis] - keep * lin[i, axis] - accelerations[i, axis] * dt)
         push_lin[i, axis] = push
-        shift_lin[i, axis] = d[axis] / dt - keep * lin[i, axis] - 0.5 * accelerations[i, axis] * dt - push
-    turn = 0.5 * (v[2] - keep * ang[i])
+        shift_lin[i, axis] = d[0][q, axis] / dt - keep * lin[i, axis] - 0.5 * accelerations[i, axis] * dt - push
+    turn = 0.5 * (v[1][q] - keep * ang[i])
     push_ang[i] = turn
-    shift_ang[i] = d[2] / dt - keep * ang[i] - turn
+    shift_ang[i] = d[1][q] / dt - keep * ang[i] - turn

@@ -43,8 +43,8 @@ def flags_of(solver: str) -> tuple:
 
 
 @compiled
-def hold_contacts(soft, rigid, rows, count, radii, lin, ang, accelerations, inverse_masses, inverse_inertias, friction, dt,
-                  iterations, keep, pulled, push_lin, push_ang, shift_lin, shift_ang, moved):
+def hold_contacts(soft, rigid, rows, count, radii, lin, ang, accelerations, inverse_masses, inverse_inertias,
+                  friction, dt, iterations, keep, pulled, push_lin, push_ang, shift_lin, shift_ang, moved):
     """The contacts' share of the step, as push and shift (solver.add_contact_motion), by the soft
     step or the rigid solve's velocities and positions (flags_of). Returns the number of rows the
     rigid solve held from below (hold.py), 0 under the soft step."""
