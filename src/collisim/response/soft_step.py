@@ -95,6 +95,8 @@ def soft_step(rows, count, radii, lin, ang, accelerations, inverse_masses, inver
     cold = np.flatnonzero(n_acc == 0.0)   # rows without an impulse to start from
     n_sum, t_sum = np.zeros(count), np.zeros(count)
     everything = np.arange(count)
+    pairs = _pair_couplings(si, sj, L, partner, count, inverse)
+    goals = np.empty((count, 3))
     for _ in range(SUBSTEPS):
         for q in range(k):
             i = bodies[q]
@@ -102,22 +104,24 @@ def soft_step(rows, count, radii, lin, ang, accelerations, inverse_masses, inver
                 w[0][q, axis] = v[0][q, axis] + 0.5 * h * accelerations[i, axis]
             w[1][q] = v[1][q]
         _warm_start(si, sj, N, L, count, inverse, w, n_acc, t_acc)
-        _sweeps(everything, si, sj, N, L, gap, mass, mass_t, partner, spring, inverse, w, d, n_acc, t_acc, friction,
-                h, True, SWEEPS)
+        _goals(sj, N, L, gap, spring, d, si, count, h, True, goals)
+        _sweeps(everything, si, sj, N, L, goals, pairs, mass, mass_t, partner, inverse, w, n_acc, t_acc, friction,
+                True, SWEEPS)
         if cold.shape[0] > 0:
-            _sweeps(cold, si, sj, N, L, gap, mass, mass_t, partner, spring, inverse, w, d, n_acc, t_acc, friction,
-                    h, True, COLD_SWEEPS)
+            _sweeps(cold, si, sj, N, L, goals, pairs, mass, mass_t, partner, inverse, w, n_acc, t_acc, friction,
+                    True, COLD_SWEEPS)
         for q in range(k):
             for axis in range(2):
                 d[0][q, axis] += w[0][q, axis] * h
                 v[0][q, axis] = 2.0 * w[0][q, axis] - v[0][q, axis]
             d[1][q] += w[1][q] * h
             v[1][q] = 2.0 * w[1][q] - v[1][q]
-        _sweeps(everything, si, sj, N, L, gap, mass, mass_t, partner, spring, inverse, v, d, n_acc, t_acc, friction,
-                h, False, SWEEPS)
+        _goals(sj, N, L, gap, spring, d, si, count, h, False, goals)
+        _sweeps(everything, si, sj, N, L, goals, pairs, mass, mass_t, partner, inverse, v, n_acc, t_acc, friction,
+                False, SWEEPS)
         if cold.shape[0] > 0:
-            _sweeps(cold, si, sj, N, L, gap, mass, mass_t, partner, spring, inverse, v, d, n_acc, t_acc, friction,
-                    h, False, COLD_SWEEPS)
+            _sweeps(cold, si, sj, N, L, goals, pairs, mass, mass_t, partner, inverse, v, n_acc, t_acc, friction,
+                    False, COLD_SWEEPS)
         cold = cold[:0]   # warm from the second substep on
         n_sum += n_acc
         t_sum += t_acc
@@ -179,34 +183,54 @@ def _warm_start(si, sj, N, L, count, inverse, w, n_acc, t_acc):
 
 
 @compiled
-def _goal(gap, h, biased, spring_r):
-    """A row's target closing speed and its softness (target, mass scale, impulse scale): still
-    apart, it may close no more than its gap in the substep (hard); overlapping, the solve pushes
-    the overlap out as the row's spring would, the relax only stops it closing (hard)."""
-    if gap > 0.0:
-        return -gap / h, 1.0, 0.0
-    if not biased:
-        return 0.0, 1.0, 0.0
-    return min(-spring_r[0] * gap, spring_r[3]), spring_r[1], spring_r[2]
+def _goals(sj, N, L, gap, spring, d, si, count, h, biased, goals):
+    """goals (count, 3) <- each row's target closing speed and its softness (target, mass scale,
+    impulse scale) for the sweeps to come, from its gap now (the bodies' moves d since the rows
+    were made, which the sweeps do not change): still apart, it may close no more than its gap
+    in the substep (hard); overlapping, the solve pushes the overlap out as the row's spring
+    would, the relax only stops it closing (hard)."""
+    for r in range(count):
+        j = sj[r]
+        moved = load(d[0], d[1], si[r], j)
+        now = gap[r] + relative(moved, j, N[r, 0], N[r, 1], L[r, 0], L[r, 2])
+        if now > 0.0:
+            goals[r, 0], goals[r, 1], goals[r, 2] = -now / h, 1.0, 0.0
+        elif not biased:
+            goals[r, 0], goals[r, 1], goals[r, 2] = 0.0, 1.0, 0.0
+        else:
+            goals[r, 0], goals[r, 1], goals[r, 2] = min(-spring[r, 0] * now, spring[r, 3]), spring[r, 1], spring[r, 2]
 
 
 @compiled
-def _sweeps(which, si, sj, N, L, gap, mass, mass_t, partner, spring, inverse, vel, d, n_acc, t_acc, friction, h,
-            biased, most):
+def _pair_couplings(si, sj, L, partner, count, inverse):
+    """(count, 3): for the first row r of each two-point manifold (partner[r] = r + 1), the
+    couplings k11, k22, k12 of its two points (contact_row.couplings), fixed over the step."""
+    pairs = np.zeros((count, 3))
+    for r in range(count - 1):
+        s = r + 1
+        if partner[r] == s:
+            i, j = si[r], sj[r]
+            m = inverses(inverse[0], inverse[1], i, j)
+            pairs[r, 0], pairs[r, 1], pairs[r, 2] = couplings(m, j, L[r, 0], L[r, 2], L[s, 0], L[s, 2])
+    return pairs
+
+
+@compiled
+def _sweeps(which, si, sj, N, L, goals, pairs, mass, mass_t, partner, inverse, vel, n_acc, t_acc, friction, biased,
+            most):
     """Sweeps over the rows `which` (_sweep) until none changes an accumulated impulse by more
     than TOLERANCE of the largest, at most `most`."""
     before = np.inf
     for _ in range(most):
-        change, largest = _sweep(which, si, sj, N, L, gap, mass, mass_t, partner, spring, inverse, vel, d, n_acc,
-                                 t_acc, friction, h, biased)
+        change, largest = _sweep(which, si, sj, N, L, goals, pairs, mass, mass_t, partner, inverse, vel, n_acc, t_acc,
+                                 friction, biased)
         if change <= TOLERANCE * largest or change > SHRINK * before:
             return
         before = change
 
 
 @compiled
-def _sweep(which, si, sj, N, L, gap, mass, mass_t, partner, spring, inverse, vel, d, n_acc, t_acc, friction, h,
-           biased):
+def _sweep(which, si, sj, N, L, goals, pairs, mass, mass_t, partner, inverse, vel, n_acc, t_acc, friction, biased):
     """One sweep over the rows `which` (ascending) on the slots' velocities vel: biased,
     the substep's solve on the mean velocities (an impulse moves them by half); else the relax
     on the final ones. The two points of a face on a face are solved together
@@ -220,15 +244,12 @@ def _sweep(which, si, sj, N, L, gap, mass, mass_t, partner, spring, inverse, vel
         i, j, nx, ny = si[r], sj[r], N[r, 0], N[r, 1]
         m = inverses(inverse[0], inverse[1], i, j)
         v = load(vel[0], vel[1], i, j)
-        moved = load(d[0], d[1], i, j)   # how far the bodies moved the row's point apart since it was made
-        target, scale, soften = _goal(gap[r] + relative(moved, j, nx, ny, L[r, 0], L[r, 2]), h, biased, spring[r])
+        target, scale, soften = goals[r, 0], goals[r, 1], goals[r, 2]
         closing = relative(v, j, nx, ny, L[r, 0], L[r, 2])
         s = r + 1
         if partner[r] == s and q + 1 < which.shape[0] and which[q + 1] == s:
-            target_s, scale_s, soften_s = _goal(gap[s] + relative(moved, j, nx, ny, L[s, 0], L[s, 2]), h, biased,
-                                                spring[s])
-            k11, k22, k12 = couplings(m, j, L[r, 0], L[r, 2], L[s, 0], L[s, 2])
-            k11, k22, k12 = half * k11, half * k22, half * k12
+            target_s, scale_s, soften_s = goals[s, 0], goals[s, 1], goals[s, 2]
+            k11, k22, k12 = half * pairs[r, 0], half * pairs[r, 1], half * pairs[r, 2]
             a1, a2 = n_acc[r], n_acc[s]
             found, x1, x2 = block(k11, k22, k12,
                                   scale * (closing - target) - (1.0 - soften) * (k11 * a1 + k12 * a2),
