@@ -211,7 +211,8 @@ def _wake_island(sleep, bodies, island):
     kept = 0
     for c in range(sleep.carried_count[0]):
         if sleep.asleep[int(sleep.carried[c, 0])]:
-            sleep.carried[kept] = sleep.carried[c]
+            for column in range(sleep.carried.shape[1]):   # (not a row assignment: arrays.copy_rows)
+                sleep.carried[kept, column] = sleep.carried[c, column]
             kept += 1
     sleep.carried_count[0] = kept
 

@@ -9,7 +9,6 @@ from pathlib import Path
 
 import numpy as np
 
-from ..core.arrays import grown
 from ..core.checks import StaticMap
 from ..core.files import written_whole
 from .bodyshapes import polygons_of
@@ -95,6 +94,18 @@ class Events:
 MAX_EVENTS = 10_000_000   # events a run keeps (about 500 MB); the per-frame counts are always complete
 
 
+
+def _with_room(array, size: int, used: int):
+    """`array` if it has `size` rows, else a copy with room for max(size, twice as many) holding
+    its first `used` (arrays.grown in numpy: called from Python, the compiled one would compile a
+    copy with Python's wrappers for each of the events' four dtypes on a first run)."""
+    if size <= len(array):
+        return array
+    bigger = np.empty((max(size, 2 * len(array)),) + array.shape[1:], array.dtype)
+    bigger[:used] = array[:used]
+    return bigger
+
+
 class PastEvents:
     """A run's events so far, grown block by block as a player plays a stream: what the
     Trajectory of the whole run would hold in `events` (its first MAX_EVENTS), read up to a
@@ -109,7 +120,7 @@ class PastEvents:
         if count <= 0:
             return
         if self.size + count > len(self._arrays):   # room for at least twice as many (arrays.grown)
-            self._arrays = Events(*(grown(getattr(self._arrays, name), self.size + count, self.size)
+            self._arrays = Events(*(_with_room(getattr(self._arrays, name), self.size + count, self.size)
                                     for name in _EVENT_FIELDS))
         for name in _EVENT_FIELDS:
             getattr(self._arrays, name)[self.size:self.size + count] = getattr(events, name)[:count]

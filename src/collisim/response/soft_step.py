@@ -123,11 +123,11 @@ def soft_step(rows, count, radii, lin, ang, accelerations, inverse_masses, inver
             _sweeps(cold, si, sj, N, L, goals, pairs, mass, mass_t, partner, inverse, v, n_acc, t_acc, friction,
                     False, COLD_SWEEPS)
         cold = cold[:0]   # warm from the second substep on
-        n_sum += n_acc
-        t_sum += t_acc
-    rows.impulse[:count] = n_sum
-    rows.friction[:count] = t_sum
-    rows.pseudo[:count] = 0.0
+        for r in range(count):   # (loops: numba compiles an operation on whole arrays with a shape check
+            n_sum[r] += n_acc[r]   # whose message's formatting costs a first run a second of compiling)
+            t_sum[r] += t_acc[r]
+    for r in range(count):
+        rows.impulse[r], rows.friction[r], rows.pseudo[r] = n_sum[r], t_sum[r], 0.0
     for q in range(k):
         _as_push_and_shift(lin, ang, accelerations, keep, dt, bodies[q], q, v, d, push_lin, push_ang, shift_lin,
                            shift_ang)
