@@ -16,6 +16,15 @@ CIRCLE, POLYGON = np.int64(0), np.int64(1)
 # bounding circle's (narrowphase/capsules.py).
 CAPSULE = np.int64(2)
 
+
+def shapes_flag(shapes):
+    """What the compiled paths are chosen by (narrowphase/manifold.py): None for a world of
+    circles alone, True for one with polygons and no capsule, CAPSULE for one with capsules.
+    numba types the three None, bool and int64, so a world compiles the paths of its own kinds."""
+    if not np.any(shapes != CIRCLE):
+        return None
+    return CAPSULE if np.any(shapes == CAPSULE) else True
+
 WALL, PAIR, SEGMENT = np.int64(0), np.int64(1), np.int64(2)
 # A collision with the collision map (statics/collision_map.py). Its `j` is the map segment
 # under ccd, which collides with the map's exact contour chains, and -1 under the discrete

@@ -37,7 +37,7 @@ from ..broadphase.registry import AUTO, choose, step_state
 from ..broadphase.step import candidate_pairs
 from ..core.compiling import compiled
 from ..core.geometry.polygon import place_polygons
-from ..core.kinds import CIRCLE, MAP, N_WALLS, PAIR, SEGMENT, SUPPORT, WALL
+from ..core.kinds import CIRCLE, MAP, N_WALLS, PAIR, SEGMENT, SUPPORT, WALL, shapes_flag
 from .hierarchy import level_scratch, record_levels
 from ..response.hold import held_note
 from ..response.pair_rows import pair_manifolds
@@ -354,7 +354,7 @@ class DiscreteStepper:
         # below this approach speed a contact rests instead of bouncing: twice what the
         # acceleration adds in a step (0 without one, so a gas bounces at every speed)
         pull = float(np.max(np.hypot(w.accelerations[:, 0], w.accelerations[:, 1]))) if w.n else 0.0
-        volumes = True if np.any(w.shapes != CIRCLE) else None
+        volumes = shapes_flag(w.shapes)
         self.statics = Statics(w.box, w.segments, index, field, float(w.restitution), 2.0 * pull * self.dt,
                                ITERATIONS, float(w.friction), volumes, True if pull > 0.0 else None,
                                float(w.damping) ** self.dt, *flags_of(solver_of(w)))

@@ -133,15 +133,16 @@ def _oriented_overlap(volumes, i, j):
 
 
 @compiled(error_model="numpy")
-def passes(level, shapes, positions, radii, vertices, start, volumes, i, j):
-    """Does pair (i, j) pass `level` (an index into LEVELS) on its own?"""
+def passes(level, shapes, positions, radii, vertices, start, volumes, i, j, capsules):
+    """Does pair (i, j) pass `level` (an index into LEVELS) on its own? capsules: None for a world
+    without capsules, else True (narrowphase/manifold.py: shapes_touch)."""
     if level == 0:
         return _circles_overlap(shapes, positions, radii, i, j)
     if level == 1:
         return _boxes_overlap(volumes, i, j)
     if level == 2:
         return _oriented_overlap(volumes, i, j)
-    return shapes_touch(shapes, positions, radii, vertices, start, i, j)
+    return shapes_touch(shapes, positions, radii, vertices, start, i, j, capsules)
 
 
 @kernel
@@ -159,30 +160,31 @@ def _volume_level(shapes, positions, radii, volumes, i, j):
 
 
 @kernel
-def _level(shapes, positions, radii, vertices, start, volumes, i, j):
+def _level(shapes, positions, radii, vertices, start, volumes, i, j, capsules):
     """Pair (i, j)'s level: how many tests it passes down the funnel, stopping at the first it
     fails."""
     level = _volume_level(shapes, positions, radii, volumes, i, j)
-    if level == 3 and shapes_touch(shapes, positions, radii, vertices, start, i, j):
+    if level == 3 and shapes_touch(shapes, positions, radii, vertices, start, i, j, capsules):
         return 4
     return level
 
 
 @compiled(error_model="numpy")
-def pair_levels(shapes, positions, radii, vertices, start, volumes, pairs, levels):
+def pair_levels(shapes, positions, radii, vertices, start, volumes, pairs, levels, capsules):
     """Each pair's level (k,): how many tests it passes down the funnel, stopping at the first
     it fails. Returns levels."""
     for p in range(pairs.shape[0]):
-        levels[p] = _level(shapes, positions, radii, vertices, start, volumes, pairs[p, 0], pairs[p, 1])
+        levels[p] = _level(shapes, positions, radii, vertices, start, volumes, pairs[p, 0], pairs[p, 1], capsules)
     return levels
 
 
 @compiled(error_model="numpy")
-def each_level(shapes, positions, radii, vertices, start, volumes, pairs, out):
+def each_level(shapes, positions, radii, vertices, start, volumes, pairs, out, capsules):
     """Every level tested on its own for each pair: out (k, 4) bool. Returns out."""
     for p in range(pairs.shape[0]):
         for level in range(4):
-            out[p, level] = passes(level, shapes, positions, radii, vertices, start, volumes, pairs[p, 0], pairs[p, 1])
+            out[p, level] = passes(level, shapes, positions, radii, vertices, start, volumes, pairs[p, 0], pairs[p, 1],
+                                   capsules)
     return out
 
 
@@ -292,8 +294,9 @@ def hierarchy(world, positions=None, angles=None, pairs=None) -> dict:
     pairs = np.ascontiguousarray(np.asarray(pairs, np.int64).reshape(-1, 2))
     vertices, volumes = volumes_of(world, positions, angles)
     args = (world.shapes, positions, world.radii, vertices, world.vertex_start, volumes)
-    levels = pair_levels(*args, pairs, np.empty(len(pairs), np.int64))
-    alone = each_level(*args, pairs, np.empty((len(pairs), 4), np.bool_))
+    capsules = True if np.any(world.shapes == CAPSULE) else None
+    levels = pair_levels(*args, pairs, np.empty(len(pairs), np.int64), capsules)
+    alone = each_level(*args, pairs, np.empty((len(pairs), 4), np.bool_), capsules)
     return {"pairs": pairs, "levels": levels, "passes": alone,
             "counts": (levels[:, None] > np.arange(4)).sum(axis=0)}
 

@@ -83,9 +83,10 @@ def _polygon_depths(world, pairs, depths):
     if polygons.size == 0:
         return depths
     depths, vertices = depths.copy(), world.placed_vertices()
+    capsules = True if np.any(world.shapes == CAPSULE) else None
     for row in polygons:   # a start-up check, once per world: not a hot path
         m = shape_segment_manifold(world.shapes, world.radii, vertices, world.vertex_start, pairs[row, 0],
-                                   world.segments, pairs[row, 1], 0.0)
+                                   world.segments, pairs[row, 1], 0.0, capsules)
         depths[row] = m[3] if m[2] > 0 else -1.0
     return depths
 

@@ -75,12 +75,13 @@ def _polygons(a, b, margin):
 
 
 @kernel
-def pair_manifold(shapes, positions, radii, vertices, start, i, j, margin):
+def pair_manifold(shapes, positions, radii, vertices, start, i, j, margin, capsules):
     """The manifold of bodies i and j (normal from i to j), with speculative points up to
-    `margin` apart; count 0 if they are farther."""
+    `margin` apart; count 0 if they are farther. capsules: None for a world without capsules
+    (which compiles no capsule path), else True."""
     if shapes[i] == CIRCLE and shapes[j] == CIRCLE:
         return _circles(positions, radii, i, j, margin)
-    if shapes[i] == CAPSULE or shapes[j] == CAPSULE:
+    if capsules is not None and (shapes[i] == CAPSULE or shapes[j] == CAPSULE):
         return capsule_pair_manifold(shapes, positions, radii, vertices, start, i, j, margin)
     # from here on, circles and polygons only
     if shapes[j] == CIRCLE:
@@ -92,12 +93,13 @@ def pair_manifold(shapes, positions, radii, vertices, start, i, j, margin):
 
 
 @kernel
-def pair_swept_gap(shapes, positions, radii, vertices, start, i, j, dx, dy):
+def pair_swept_gap(shapes, positions, radii, vertices, start, i, j, dx, dy, capsules):
     """The least distance between the shapes of bodies i and j (apart where the step starts) while
-    body j moves by (dx, dy) relative to body i, turning neither (narrowphase/sweep.py)."""
+    body j moves by (dx, dy) relative to body i, turning neither (narrowphase/sweep.py).
+    capsules as for pair_manifold."""
     if shapes[i] == CIRCLE and shapes[j] == CIRCLE:
         return _circles_swept(positions, radii, i, j, dx, dy)
-    if shapes[i] == CAPSULE or shapes[j] == CAPSULE:
+    if capsules is not None and (shapes[i] == CAPSULE or shapes[j] == CAPSULE):
         return capsule_pair_swept_gap(shapes, positions, radii, vertices, start, i, j, dx, dy)
     # from here on, circles and polygons only
     if shapes[j] == CIRCLE:
@@ -116,11 +118,12 @@ def _circles_swept(positions, radii, i, j, dx, dy):
 
 
 @kernel
-def shapes_touch(shapes, positions, radii, vertices, start, i, j):
-    """Do the shapes of bodies i and j overlap or touch? (The exact test alone, no manifold.)"""
+def shapes_touch(shapes, positions, radii, vertices, start, i, j, capsules):
+    """Do the shapes of bodies i and j overlap or touch? (The exact test alone, no manifold.)
+    capsules as for pair_manifold."""
     if shapes[i] == CIRCLE and shapes[j] == CIRCLE:
         return circles_touch(positions, radii, i, j)
-    if shapes[i] == CAPSULE or shapes[j] == CAPSULE:
+    if capsules is not None and (shapes[i] == CAPSULE or shapes[j] == CAPSULE):
         return capsule_pair_touch(shapes, positions, radii, vertices, start, i, j)
     # from here on, circles and polygons only
     if shapes[j] == CIRCLE:
@@ -167,32 +170,47 @@ def polygon_segment_manifold(vertices, start, i, segments, k, margin):
 
 
 @compiled
-def shape_wall_manifold(shapes, radii, vertices, start, i, box, wall, margin):
+def shape_wall_manifold(shapes, radii, vertices, start, i, box, wall, margin, capsules):
     """The manifold of body i, a polygon or a capsule, and one box wall (normal into the wall);
-    none for a circle (the walls bounce circles themselves: engine/statics_paths.py)."""
+    none for a circle (the walls bounce circles themselves: engine/statics_paths.py). capsules
+    as for pair_manifold."""
     if shapes[i] == POLYGON:
         return polygon_wall_manifold(vertices, start, i, box, wall, margin)
-    if shapes[i] == CAPSULE:
+    if capsules is not None and shapes[i] == CAPSULE:
         return capsule_wall_manifold(radii, vertices, start, i, box, wall, margin)
     return NONE
 
 
 @compiled
-def shape_segment_manifold(shapes, radii, vertices, start, i, segments, k, margin):
+def shape_segment_manifold(shapes, radii, vertices, start, i, segments, k, margin, capsules):
     """The manifold of body i, a polygon or a capsule, and segment k (normal from the body
-    toward the segment); none for a circle (engine/statics_paths.py holds circles)."""
+    toward the segment); none for a circle (engine/statics_paths.py holds circles). capsules as
+    for pair_manifold."""
     if shapes[i] == POLYGON:
         return polygon_segment_manifold(vertices, start, i, segments, k, margin)
-    if shapes[i] == CAPSULE:
+    if capsules is not None and shapes[i] == CAPSULE:
         return capsule_segment_manifold(radii, vertices, start, i, segments, k, margin)
     return NONE
 
 
 # --- compiled only for worlds with polygons ----------------------------------------------------------
-# The engine and contacts() call these with `polygons`: True for a world with polygons, None for
-# a world of circles. Numba picks the implementation by that type when the caller compiles (as
-# engine/statics_paths.py does for segments and maps), so a world of circles compiles none of
-# the polygon paths: the separating axes, the clipping, the half-planes (about 5 s of a first run).
+# The engine and contacts() call these with `polygons` (core/kinds.shapes_flag): None for a world
+# of circles, True for one with polygons, CAPSULE for one with capsules too. Numba picks the
+# implementation by that type when the caller compiles (as engine/statics_paths.py does for
+# segments and maps), so a world of circles compiles none of the polygon paths (the separating
+# axes, the clipping, the half-planes), and a world without capsules none of the capsules'.
+
+def capsules_of(polygons):
+    """The kernels' `capsules` argument for a `polygons` flag: True with capsules, else None."""
+    raise NotImplementedError("capsules_of is called from compiled code")
+
+
+@overload(capsules_of)
+def _capsules_of(polygons):
+    if isinstance(polygons, types.Integer):
+        return lambda polygons: True
+    return lambda polygons: None
+
 
 def body_pair_manifold(polygons, shapes, positions, radii, vertices, start, i, j, margin):
     """pair_manifold; for a world of circles (polygons None), the circles' manifold alone."""
@@ -225,7 +243,7 @@ def _body_pair_manifold(polygons, shapes, positions, radii, vertices, start, i, 
         return lambda polygons, shapes, positions, radii, vertices, start, i, j, margin: _circles(
             positions, radii, i, j, margin)
     return lambda polygons, shapes, positions, radii, vertices, start, i, j, margin: pair_manifold(
-        shapes, positions, radii, vertices, start, i, j, margin)
+        shapes, positions, radii, vertices, start, i, j, margin, capsules_of(polygons))
 
 
 @overload(body_pair_touch)
@@ -233,7 +251,7 @@ def _body_pair_touch(polygons, shapes, positions, radii, vertices, start, i, j):
     if isinstance(polygons, types.NoneType):
         return lambda polygons, shapes, positions, radii, vertices, start, i, j: circles_touch(positions, radii, i, j)
     return lambda polygons, shapes, positions, radii, vertices, start, i, j: shapes_touch(
-        shapes, positions, radii, vertices, start, i, j)
+        shapes, positions, radii, vertices, start, i, j, capsules_of(polygons))
 
 
 @overload(body_pair_swept_gap)
@@ -242,7 +260,7 @@ def _body_pair_swept_gap(polygons, shapes, positions, radii, vertices, start, i,
         return lambda polygons, shapes, positions, radii, vertices, start, i, j, dx, dy: _circles_swept(
             positions, radii, i, j, dx, dy)
     return lambda polygons, shapes, positions, radii, vertices, start, i, j, dx, dy: pair_swept_gap(
-        shapes, positions, radii, vertices, start, i, j, dx, dy)
+        shapes, positions, radii, vertices, start, i, j, dx, dy, capsules_of(polygons))
 
 
 @overload(body_wall_manifold)
@@ -250,7 +268,7 @@ def _body_wall_manifold(polygons, shapes, radii, vertices, start, i, box, wall, 
     if isinstance(polygons, types.NoneType):
         return lambda polygons, shapes, radii, vertices, start, i, box, wall, margin: NONE
     return lambda polygons, shapes, radii, vertices, start, i, box, wall, margin: shape_wall_manifold(
-        shapes, radii, vertices, start, i, box, wall, margin)
+        shapes, radii, vertices, start, i, box, wall, margin, capsules_of(polygons))
 
 
 @overload(body_segment_manifold)
@@ -258,4 +276,4 @@ def _body_segment_manifold(polygons, shapes, radii, vertices, start, i, segments
     if isinstance(polygons, types.NoneType):
         return lambda polygons, shapes, radii, vertices, start, i, segments, k, margin: NONE
     return lambda polygons, shapes, radii, vertices, start, i, segments, k, margin: shape_segment_manifold(
-        shapes, radii, vertices, start, i, segments, k, margin)
+        shapes, radii, vertices, start, i, segments, k, margin, capsules_of(polygons))

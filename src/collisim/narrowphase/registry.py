@@ -58,7 +58,7 @@ def contact(shapes, positions, radii, i, j):
 @compiled
 def contact_table(shapes, positions, radii, vertices, start, candidates, polygons):
     """One row (i, j, nx, ny, depth, px, py) per contact point of the candidate pairs (k, 2).
-    polygons: True, or None for a world of circles (which then compiles no polygon path)."""
+    polygons: core/kinds.shapes_flag of the world (a world compiles the paths of its own kinds)."""
     table = np.empty((2 * candidates.shape[0], 7))
     count = 0
     for c in range(candidates.shape[0]):

@@ -2,7 +2,7 @@
 import numpy as np
 
 from ..broadphase import find_pairs
-from ..core.kinds import CIRCLE
+from ..core.kinds import shapes_flag
 from ..narrowphase.registry import contact_table
 
 
@@ -15,7 +15,7 @@ def contacts(world, positions=None, angles=None) -> dict:
     reach = world.radii[:, None]
     candidates = find_pairs("grid", positions - reach, positions + reach)
     vertices = world.placed_vertices(positions, angles)
-    polygons = True if np.any(world.shapes != CIRCLE) else None
+    polygons = shapes_flag(world.shapes)
     table = contact_table(world.shapes, positions, world.radii, vertices, world.vertex_start, candidates, polygons)
     return {"pairs": table[:, :2].astype(np.int64), "normals": table[:, 2:4], "depths": table[:, 4],
             "points": table[:, 5:]}

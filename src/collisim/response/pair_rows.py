@@ -62,8 +62,8 @@ def pair_manifolds(bodies, vertices, margin, dt, pairs, found, k, in_pair, touch
     says of each pair whether its shapes touch now (the exact level of the bounding-volume
     funnel, narrowphase/hierarchy.py, read from the manifold the step needs anyway: circles by
     circles_touch, a polygon by its manifold's depth >= 0). Returns the new record count.
-    polygons: True, or None for a world of circles,
-    which then compiles no polygon path (manifold.body_pair_manifold). asleep (n,) bool: a pair
+    polygons: core/kinds.shapes_flag of the world, by which a world of circles compiles no polygon
+    path and a world without capsules no capsule path (manifold.body_pair_manifold). asleep (n,) bool: a pair
     of sleepers (engine/islands.py) has no manifold (its touching is left False). turns (n,) bool:
     which bodies a static may turn within the step (engine/statics_paths.may_turn), for _may_meet."""
     shapes, positions, radii = bodies.shapes, bodies.positions, bodies.radii
