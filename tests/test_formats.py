@@ -372,7 +372,7 @@ def test_a_warm_cache_says_nothing_about_compiling(tmp_path):
     assert "compiling" not in result.stdout
 
 
-def cache_missing_one_kernel(cache: Path, missing: str = "eventlog.new_log_from_python") -> bool:
+def cache_missing_one_kernel(cache: Path, missing: str = "discrete.run_frames_from_python") -> bool:
     """Fill the folder `cache` (a NUMBA_CACHE_DIR) with the kernels this process's renders cached
     (collisim keeps them in core/compiling.cache_folder(), under NUMBA_CACHE_DIR as
     collisim-DIGEST), less the entries of `missing` (module.function), a kernel a render calls
@@ -409,7 +409,7 @@ def test_a_kernel_missing_from_the_cache_says_it_is_compiling_before_the_bar(tmp
     assert bar is not None and cold.stderr.index(COMPILING) < bar.start()       # the line comes first
     seconds = re.search(r"(\d+\.\d) s \((\d+\.\d) s compiling\)$", cold.stdout.strip())
     assert seconds and float(seconds[1]) >= float(seconds[2]) > 0             # the whole wall time, compile in it
-    assert any(cache.rglob("eventlog.new_log_from_python-*.nbi"))             # the kernel compiled is now cached
+    assert any(cache.rglob("discrete.run_frames_from_python-*.nbi"))             # the kernel compiled is now cached
     warm = render("--seconds", "0.25", "--size", "160x90", "--out", tmp_path / "warm.mp4", env=env)
     assert warm.returncode == 0 and COMPILING not in warm.stderr, warm.stderr
 

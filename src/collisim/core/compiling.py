@@ -66,18 +66,21 @@ PACKAGE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))   # collis
 FROM_PYTHON = "_from_python"   # the name's suffix of the copy a kernel's calls from Python compile
 
 
-def compiled(function=None, **options):
+def compiled(function=None, *, python_runs_it=False, **options):
     """numba.njit(cache=True, **options), compiled without numba's wrappers where compiled code
     calls it, and with them where Python does (the module docstring). As a decorator:
-    @compiled or @compiled(option=value, ...)."""
+    @compiled or @compiled(option=value, ...). python_runs_it: a call from Python runs the
+    function itself, uncompiled (constructor)."""
     if function is None:
-        return functools.partial(compiled, **options)
+        return functools.partial(compiled, python_runs_it=python_runs_it, **options)
     options = dict(cache=True, **options)
     from_python = []   # the dispatcher Python calls, made at the first call
     made = threading.Lock()
 
     @functools.wraps(function)
     def call_from_python(*args, **kwargs):
+        if python_runs_it:
+            return function(*args, **kwargs)
         if not from_python:
             with made:
                 if not from_python:
@@ -105,6 +108,14 @@ def compile_for_compiled_code(kernel, arguments) -> None:
     """Compile (or load from the cache) `kernel` as compiled code calls it with `arguments`
     (engine/warm.py): into the cache entries its compiled callers load."""
     njit(**kernel.compiled_code_options)(kernel.function).compile(tuple(numba.typeof(a) for a in arguments))
+
+
+def constructor(function):
+    """compiled where compiled code calls it; called from Python, the function runs as it is
+    (as numba.extending.register_jitable's functions do). For functions that only make arrays
+    with numpy, as fast from Python: a copy compiled for Python would cost a first run its
+    compile and nothing else."""
+    return compiled(function, python_runs_it=True)
 
 
 def kernel(function):

@@ -4,7 +4,7 @@ from collections import namedtuple
 import numpy as np
 
 from ..core.arrays import grown
-from ..core.compiling import compiled, kernel
+from ..core.compiling import compiled, constructor, kernel
 from ..model.trajectory import Events
 
 EventLog = namedtuple("EventLog", ["time", "kind", "i", "j", "impulse", "point", "size"])
@@ -12,7 +12,7 @@ EventLog.__doc__ = """Collisions as appended: time, impulse (c,) float64; kind (
 point (c, 2); size (1,) int64 how many of the c rows are filled. Fields as in Events."""
 
 
-@compiled
+@constructor
 def new_log(capacity):
     """An empty log with room for `capacity` collisions."""
     return EventLog(np.empty(capacity), np.empty(capacity, np.int8), np.empty(capacity, np.intp),

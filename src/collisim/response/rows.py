@@ -38,7 +38,7 @@ from collections import namedtuple
 
 import numpy as np
 
-from ..core.compiling import compiled, kernel
+from ..core.compiling import compiled, constructor, kernel
 from ..core.geometry.box import wall_geometry
 from ..core.geometry.vector import length
 from ..core.kinds import CIRCLE, N_WALLS
@@ -72,7 +72,7 @@ def was_impact(rows, r):
     return rows.hit[r] > 0.0 or rows.arrives[r]
 
 
-@compiled
+@constructor
 def new_rows(capacity):
     k = max(capacity, 1)
     ints, reals, pairs = (lambda: np.empty(k, np.int64)), (lambda: np.zeros(k)), (lambda: np.empty((k, 2)))
@@ -112,7 +112,7 @@ APART = 1.0 + 1e-9   # bounding circles this much farther than a reach are apart
 MEET_TOLERANCE = 1e-9   # of the two radii: a sweep that comes this close meets (rounding)
 
 
-@compiled
+@constructor
 def new_found(capacity):
     """Room for `capacity` manifold records (capacity, FOUND)."""
     return np.empty((max(capacity, 1), FOUND))

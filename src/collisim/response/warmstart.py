@@ -17,7 +17,7 @@ from collections import namedtuple
 import numpy as np
 
 from ..core.arrays import stable_order
-from ..core.compiling import compiled, kernel
+from ..core.compiling import compiled, constructor, kernel
 from ..core.kinds import N_WALLS
 from .rows import was_impact
 
@@ -26,7 +26,7 @@ Memory.__doc__ = """Last step's impulses of its resting contacts: keys (k,) int6
 and their accumulated normal and friction impulses (k,)."""
 
 
-@compiled
+@constructor
 def no_memory():
     return Memory(np.empty(0, np.int64), np.empty(0), np.empty(0))
 
