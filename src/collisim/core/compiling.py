@@ -110,12 +110,14 @@ def compile_for_compiled_code(kernel, arguments) -> None:
     njit(**kernel.compiled_code_options)(kernel.function).compile(tuple(numba.typeof(a) for a in arguments))
 
 
-def constructor(function):
-    """compiled where compiled code calls it; called from Python, the function runs as it is
-    (as numba.extending.register_jitable's functions do). For functions that only make arrays
-    with numpy, as fast from Python: a copy compiled for Python would cost a first run its
-    compile and nothing else."""
-    return compiled(function, python_runs_it=True)
+def constructor(function=None, **options):
+    """compiled(**options) where compiled code calls it; called from Python, the function runs
+    as it is (as numba.extending.register_jitable's functions do). For functions that only make
+    arrays with numpy, as fast from Python: a copy compiled for Python would cost a first run
+    its compile and nothing else."""
+    if function is None:
+        return functools.partial(constructor, **options)
+    return compiled(function, python_runs_it=True, **options)
 
 
 def kernel(function):

@@ -105,6 +105,8 @@ class World:
     def placed_vertices(self, positions=None, angles=None) -> np.ndarray:
         """Every polygon's vertices (V, 2) in the world, at the bodies' own poses unless given
         (positions (n, 2), angles (n,)); body i's are rows vertex_start[i]:vertex_start[i + 1]."""
+        if len(self.body_vertices) == 0:   # circles alone: nothing to place (and no kernel to compile)
+            return np.empty_like(self.body_vertices)
         positions = self.positions if positions is None else np.ascontiguousarray(positions, np.float64)
         angles = self.angles if angles is None else np.ascontiguousarray(angles, np.float64)
         return place_polygons(self.body_vertices, self.vertex_start, positions, angles,

@@ -20,7 +20,7 @@ from collections import namedtuple
 import numpy as np
 
 from ...core.arrays import copy_rows
-from ...core.compiling import compiled, inlined, kernel
+from ...core.compiling import compiled, constructor, inlined, kernel
 from ...core.kinds import SEGMENT
 
 assert SEGMENT < 3  # the bookkeeping kinds below sort after every collision kind
@@ -40,13 +40,13 @@ track of: slot_of (n,) int64 holds the slot of each body's own event, or -1 for 
 ONE_BODY = -2
 
 
-@compiled(error_model="numpy")
+@constructor(error_model="numpy")
 def new_queue(capacity, bodies):
     """An empty queue with room for `capacity` events, keeping track of `bodies` bodies' own events."""
     return _empty_queue(capacity, np.full(bodies, -1, np.int64))
 
 
-@compiled(error_model="numpy")
+@constructor(error_model="numpy")
 def _empty_queue(capacity, slot_of):
     """An empty queue with room for `capacity` events, keeping track in slot_of (n,)."""
     return EventQueue(np.empty(capacity), np.empty(capacity, np.int64), np.empty(capacity, np.int64),

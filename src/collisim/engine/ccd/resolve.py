@@ -57,7 +57,7 @@ from collections import namedtuple
 
 import numpy as np
 
-from ...core.compiling import compiled, kernel
+from ...core.compiling import constructor, kernel
 from ...core.geometry.box import wall_geometry
 from ...core.geometry.circle import line_of_centres
 from ...core.geometry.segment import segment_contact
@@ -102,7 +102,7 @@ MAX_SWEEPS = 100
 SEPARATION_FLOOR = 1e-12
 
 
-@compiled(error_model="numpy")
+@constructor(error_model="numpy")
 def new_contacts(capacity):
     """Room for `capacity` simultaneous contacts."""
     return Contacts(np.empty(capacity, np.int64), np.empty(capacity, np.int64), np.empty(capacity, np.int64),
