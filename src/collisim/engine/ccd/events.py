@@ -161,11 +161,15 @@ def start_event_loop(positions, velocities, gravity, radii, masses, box, restitu
     grid = make_grid(box, radii, segments, separate_large, packed=bool(np.any(env.rest_speed > 0.0)))
     base = max(n, len(segments), N_WALLS) + 1
     done = np.zeros(n, np.bool_)
-    queue = schedule_all(bodies, grid, env, new_queue(16 * (n + 1), n), 0.0, t_end, base, done)
     resting = True if np.any(gravity != 0.0) or np.any(rest_speed > 0.0) else None
-    return EventLoop(bodies, grid, env, queue, new_contacts(4 * n + 16), done, np.zeros(n, np.bool_),
-                     np.empty(n, np.int64), base, float(t_end), new_supports(n), np.zeros(SLIDE_OFF + 1, np.int64),
-                     resting)
+    loop = EventLoop(bodies, grid, env, new_queue(16 * (n + 1), n), new_contacts(4 * n + 16), done,
+                     np.zeros(n, np.bool_), np.empty(n, np.int64), base, float(t_end), new_supports(n),
+                     np.zeros(SLIDE_OFF + 1, np.int64), resting)
+    # every event predicted by the loop itself, run for no frame: a call of schedule_all from
+    # Python would compile it a second time, with Python's wrappers (the loop compiles it anyway)
+    _, queue = _run(loop, resting, 1.0, 0, 0, 1, np.empty((0, n, 2)), np.empty((0, n, 2)), np.zeros((0, 3), np.int64),
+                    np.zeros(0, np.bool_), True)
+    return loop._replace(queue=queue)
 
 
 def run(loop, frame_dt, first, count, budget, positions, velocities, counts, over_budget):
@@ -174,17 +178,20 @@ def run(loop, frame_dt, first, count, budget, positions, velocities, counts, ove
     (frames whose last events were skipped, fallback.py). Returns the EventLog of their
     collisions in processing order and the (possibly larger) queue, which the caller keeps
     in the loop."""
-    return _run(loop, loop.resting, frame_dt, first, count, budget, positions, velocities, counts, over_budget)
+    return _run(loop, loop.resting, frame_dt, first, count, budget, positions, velocities, counts, over_budget, False)
 
 
 @compiled(nogil=True, error_model="numpy")   # engine/ahead.py: blocks on their own thread
-def _run(loop, resting, frame_dt, first, count, budget, positions, velocities, counts, over_budget):
+def _run(loop, resting, frame_dt, first, count, budget, positions, velocities, counts, over_budget, predict):
     """run, with loop.resting as an argument: None prunes (before typing) every branch that
-    `resting is not None` guards, so that they never compile (EventLoop)."""
+    `resting is not None` guards, so that they never compile (EventLoop). predict: first predict
+    every event from t = 0 (start_event_loop)."""
     bodies, grid, env, queue, contacts = loop.bodies, loop.grid, loop.env, loop.queue, loop.contacts
     done, listed, involved, base, t_end = loop.done, loop.listed, loop.involved, loop.base, loop.t_end
     supports, tally = loop.supports, loop.tally
     n = bodies.radius.shape[0]
+    if predict:
+        queue = schedule_all(bodies, grid, env, queue, 0.0, t_end, base, done)
     may_sleep = False   # doze does nothing when no body may sleep (gases): no call at every event
     for body in range(env.rest_speed.shape[0]):
         may_sleep = may_sleep or env.rest_speed[body] > 0.0
