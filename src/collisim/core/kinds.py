@@ -23,7 +23,13 @@ def shapes_flag(shapes):
     numba types the three None, bool and int64, so a world compiles the paths of its own kinds."""
     if not np.any(shapes != CIRCLE):
         return None
-    return CAPSULE if np.any(shapes == CAPSULE) else True
+    return CAPSULE if capsules_flag(shapes) else True
+
+
+def capsules_flag(shapes):
+    """The `capsules` argument of narrowphase/manifold.py's kernels, for calls from Python: True
+    for a world with capsules, else None (which compiles no capsule path)."""
+    return True if np.any(shapes == CAPSULE) else None
 
 WALL, PAIR, SEGMENT = np.int64(0), np.int64(1), np.int64(2)
 # A collision with the collision map (statics/collision_map.py). Its `j` is the map segment

@@ -38,7 +38,7 @@ from ..broadphase import find_pairs
 from ..broadphase.step import candidate_pairs
 from ..core.compiling import compiled, kernel
 from ..core.geometry.polygon import oriented_box, place_polygons, polygon_bounds
-from ..core.kinds import CAPSULE, CIRCLE, POLYGON
+from ..core.kinds import CAPSULE, CIRCLE, POLYGON, capsules_flag
 from ..model.trajectory import NOT_COUNTED
 from ..narrowphase.circles import circles_touch
 from ..narrowphase.manifold import shapes_touch
@@ -294,7 +294,7 @@ def hierarchy(world, positions=None, angles=None, pairs=None) -> dict:
     pairs = np.ascontiguousarray(np.asarray(pairs, np.int64).reshape(-1, 2))
     vertices, volumes = volumes_of(world, positions, angles)
     args = (world.shapes, positions, world.radii, vertices, world.vertex_start, volumes)
-    capsules = True if np.any(world.shapes == CAPSULE) else None
+    capsules = capsules_flag(world.shapes)
     levels = pair_levels(*args, pairs, np.empty(len(pairs), np.int64), capsules)
     alone = each_level(*args, pairs, np.empty((len(pairs), 4), np.bool_), capsules)
     return {"pairs": pairs, "levels": levels, "passes": alone,

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..broadphase import NAMES as BROAD_PHASES
-from ..core.kinds import CAPSULE, CIRCLE, POLYGON
+from ..core.kinds import CAPSULE, CIRCLE, POLYGON, capsules_flag
 from ..narrowphase.manifold import shape_segment_manifold
 from ..narrowphase.statics import touching_segments
 from ..queries.contacts import contacts
@@ -83,7 +83,7 @@ def _polygon_depths(world, pairs, depths):
     if polygons.size == 0:
         return depths
     depths, vertices = depths.copy(), world.placed_vertices()
-    capsules = True if np.any(world.shapes == CAPSULE) else None
+    capsules = capsules_flag(world.shapes)
     for row in polygons:   # a start-up check, once per world: not a hot path
         m = shape_segment_manifold(world.shapes, world.radii, vertices, world.vertex_start, pairs[row, 0],
                                    world.segments, pairs[row, 1], 0.0, capsules)

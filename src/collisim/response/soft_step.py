@@ -104,24 +104,18 @@ def soft_step(rows, count, radii, lin, ang, accelerations, inverse_masses, inver
                 w[0][q, axis] = v[0][q, axis] + 0.5 * h * accelerations[i, axis]
             w[1][q] = v[1][q]
         _warm_start(si, sj, N, L, count, inverse, w, n_acc, t_acc)
-        _goals(sj, N, L, gap, spring, d, si, count, h, True, goals)
-        _sweeps(everything, si, sj, N, L, goals, pairs, mass, mass_t, partner, inverse, w, n_acc, t_acc, friction,
-                True, SWEEPS)
-        if cold.shape[0] > 0:
-            _sweeps(cold, si, sj, N, L, goals, pairs, mass, mass_t, partner, inverse, w, n_acc, t_acc, friction,
-                    True, COLD_SWEEPS)
+        _goals(si, sj, N, L, gap, spring, d, count, h, True, goals)
+        _sweeps(everything, cold, si, sj, N, L, goals, pairs, mass, mass_t, partner, inverse, w, n_acc, t_acc,
+                friction, True)
         for q in range(k):
             for axis in range(2):
                 d[0][q, axis] += w[0][q, axis] * h
                 v[0][q, axis] = 2.0 * w[0][q, axis] - v[0][q, axis]
             d[1][q] += w[1][q] * h
             v[1][q] = 2.0 * w[1][q] - v[1][q]
-        _goals(sj, N, L, gap, spring, d, si, count, h, False, goals)
-        _sweeps(everything, si, sj, N, L, goals, pairs, mass, mass_t, partner, inverse, v, n_acc, t_acc, friction,
-                False, SWEEPS)
-        if cold.shape[0] > 0:
-            _sweeps(cold, si, sj, N, L, goals, pairs, mass, mass_t, partner, inverse, v, n_acc, t_acc, friction,
-                    False, COLD_SWEEPS)
+        _goals(si, sj, N, L, gap, spring, d, count, h, False, goals)
+        _sweeps(everything, cold, si, sj, N, L, goals, pairs, mass, mass_t, partner, inverse, v, n_acc, t_acc,
+                friction, False)
         cold = cold[:0]   # warm from the second substep on
         for r in range(count):   # (loops: numba compiles an operation on whole arrays with a shape check
             n_sum[r] += n_acc[r]   # whose message's formatting costs a first run a second of compiling)
@@ -183,7 +177,7 @@ def _warm_start(si, sj, N, L, count, inverse, w, n_acc, t_acc):
 
 
 @compiled
-def _goals(sj, N, L, gap, spring, d, si, count, h, biased, goals):
+def _goals(si, sj, N, L, gap, spring, d, count, h, biased, goals):
     """goals (count, 3) <- each row's target closing speed and its softness (target, mass scale,
     impulse scale) for the sweeps to come, from its gap now (the bodies' moves d since the rows
     were made, which the sweeps do not change): still apart, it may close no more than its gap
@@ -216,17 +210,21 @@ def _pair_couplings(si, sj, L, partner, count, inverse):
 
 
 @compiled
-def _sweeps(which, si, sj, N, L, goals, pairs, mass, mass_t, partner, inverse, vel, n_acc, t_acc, friction, biased,
-            most):
-    """Sweeps over the rows `which` (_sweep) until none changes an accumulated impulse by more
-    than TOLERANCE of the largest, at most `most`."""
-    before = np.inf
-    for _ in range(most):
-        change, largest = _sweep(which, si, sj, N, L, goals, pairs, mass, mass_t, partner, inverse, vel, n_acc, t_acc,
-                                 friction, biased)
-        if change <= TOLERANCE * largest or change > SHRINK * before:
-            return
-        before = change
+def _sweeps(everything, cold, si, sj, N, L, goals, pairs, mass, mass_t, partner, inverse, vel, n_acc, t_acc,
+            friction, biased):
+    """Sweeps (_sweep) over every row while they converge (at most SWEEPS), then over the rows
+    `cold` without an impulse to start from (at most COLD_SWEEPS): each set until no sweep changes
+    an accumulated impulse by more than TOLERANCE of the largest, or a sweep changes them by more
+    than SHRINK of the sweep before."""
+    for cold_rows in (False, True):
+        which, most = (cold, COLD_SWEEPS) if cold_rows else (everything, SWEEPS)
+        before = np.inf
+        for _ in range(most if which.shape[0] > 0 else 0):
+            change, largest = _sweep(which, si, sj, N, L, goals, pairs, mass, mass_t, partner, inverse, vel, n_acc,
+                                     t_acc, friction, biased)
+            if change <= TOLERANCE * largest or change > SHRINK * before:
+                break
+            before = change
 
 
 @compiled
