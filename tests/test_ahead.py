@@ -106,7 +106,7 @@ def test_dropping_the_iterator_stops_the_worker():
 
 
 def test_a_render_of_many_blocks_shows_the_frames_of_the_whole_trajectory(tmp_path):
-    scene = collisim.load_scene("two_bodies").replace(seconds=2.2)   # 132 frames: three blocks of 64, the last short
+    scene = collisim.load_scene("particles_250").replace(seconds=2.2)   # 132 frames: three blocks of 64, the last short
     streamed = collisim.render(scene, tmp_path / "streamed.mp4", SIZE)
     whole = collisim.render(collisim.simulate(scene), tmp_path / "whole.mp4", SIZE, settings=scene.render)
     a, b = decoded_frames(streamed), decoded_frames(whole)

@@ -125,11 +125,13 @@ def test_sleeping_removes_at_most_the_rest_speeds_energy():
     assert before <= 0.5 * world.masses[0] * speed ** 2 + 0.5 * world.inertias[0] * (speed / r) ** 2
 
 
-@pytest.mark.parametrize("broadphase", ["grid", "sweep_prune"])
-def test_sleeping_gives_the_same_bytes_with_every_broad_phase_and_block_size(broadphase):
+def test_sleeping_gives_the_same_bytes_under_the_grid_as_under_brute_force_and_in_any_block_size():
+    # (a broad phase that keeps its state from call to call, sweep and prune, is held to brute
+    # force's pairs after bodies jump between calls, as sleepers do when they wake:
+    # test_broadphase.py)
     world = stack_world(extra=[(5.0, 6.0, 0.0, 0.0), (1.0, 0.2, 0.0, 0.0)])
     reference = run(world, 3.0, broadphase="brute")
-    assert run(world, 3.0, broadphase=broadphase).positions.tobytes() == reference.positions.tobytes()
+    assert run(world, 3.0, broadphase="grid").positions.tobytes() == reference.positions.tobytes()
     stepper = DiscreteStepper(world, FPS)
     blocks = np.concatenate([stepper.run(k)[0].positions for k in (1, 50, 7, 122)])
     assert blocks.tobytes() == reference.positions[1:].tobytes()

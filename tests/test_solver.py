@@ -119,11 +119,14 @@ def test_the_solver_leaves_free_flight_exact():
     assert np.allclose(trajectory.positions[:, 0, 1], 9.0 - 0.5 * G * t ** 2, rtol=0, atol=1e-12)
 
 
-@pytest.mark.parametrize("broadphase", ["brute", "grid", "sweep_prune", "kdtree", "bvh"])
-def test_a_pile_gives_the_same_bytes_with_every_broad_phase(broadphase):
+def test_a_pile_gives_the_same_bytes_under_the_grid_as_under_brute_force():
+    """The grid, which piles of many bodies choose. The other broad phases are held to brute
+    force's pairs (test_broadphase.py) and to its bytes on the gas (test_pipeline.py): here each
+    would compile a step of its own for this world and test the same canonical order again."""
     world = pile_world(0.5, n=60)
     reference = run(world, 1.0, broadphase="brute")
-    assert run(world, 1.0, broadphase=broadphase).positions.tobytes() == reference.positions.tobytes()
+    assert reference.pair_collisions.sum() > 0
+    assert run(world, 1.0, broadphase="grid").positions.tobytes() == reference.positions.tobytes()
 
 
 def test_a_pile_gives_the_same_bytes_whatever_the_block_size():
