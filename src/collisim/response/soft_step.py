@@ -15,7 +15,13 @@ substeps of h = dt/SUBSTEPS. Each substep
    body moved and turned since the rows were made, to first order as the rows' velocities are,
    not from a new narrow phase);
 4. relaxes: solves again without the bias, so the push that took an overlap out does not
-   stay in the velocity (a stack does not jitter).
+   stay in the velocity (a stack does not jitter). One sweep, as Box2D's relax, in every
+   substep but the last, whose relax sweeps while they converge: what the earlier relaxes
+   leave, the next substep's solve takes up, and the step ends with no push left in the
+   velocities, which sleeping reads (engine/islands.py). Converged in every substep, the relax
+   cost an awake pile much of its step and held the pyramids and stacks no better
+   (docs/benchmarks.md). The solve still sweeps while it converges in every substep:
+   at one sweep, a box held by friction on a slope crept.
 
 Sweeping a pile's weight down contact by contact took the rigid solve as many sweeps as the pile
 is high; the substeps carry it further each step, and the soft rows let the weight settle into
@@ -39,7 +45,7 @@ import numpy as np
 from ..core.compiling import compiled
 from .contact_row import block, couplings, inverses, kicked, load, relative, store
 
-SWEEPS = 20        # a substep's sweeps at most: they run while each changes the impulses by less
+SWEEPS = 20        # a solve's sweeps at most: they run while each changes the impulses by less
 SHRINK = 0.5       # than SHRINK times the sweep before (converging, not cycling over friction), to
 TOLERANCE = 1e-9   # TOLERANCE of the largest impulse; so do a new row's (COLD_SWEEPS), which has
 COLD_SWEEPS = 20   # no impulse of the step before to start from
@@ -97,7 +103,7 @@ def soft_step(rows, count, radii, lin, ang, accelerations, inverse_masses, inver
     everything = np.arange(count)
     pairs = _pair_couplings(si, sj, L, partner, count, inverse)
     goals = np.empty((count, 3))
-    for _ in range(SUBSTEPS):
+    for substep in range(SUBSTEPS):
         for q in range(k):
             i = bodies[q]
             for axis in range(2):
@@ -106,7 +112,7 @@ def soft_step(rows, count, radii, lin, ang, accelerations, inverse_masses, inver
         _warm_start(si, sj, N, L, count, inverse, w, n_acc, t_acc)
         _goals(si, sj, N, L, gap, spring, d, count, h, True, goals)
         _sweeps(everything, cold, si, sj, N, L, goals, pairs, mass, mass_t, partner, inverse, w, n_acc, t_acc,
-                friction, True)
+                friction, True, SWEEPS)
         for q in range(k):
             for axis in range(2):
                 d[0][q, axis] += w[0][q, axis] * h
@@ -115,7 +121,7 @@ def soft_step(rows, count, radii, lin, ang, accelerations, inverse_masses, inver
             v[1][q] = 2.0 * w[1][q] - v[1][q]
         _goals(si, sj, N, L, gap, spring, d, count, h, False, goals)
         _sweeps(everything, cold, si, sj, N, L, goals, pairs, mass, mass_t, partner, inverse, v, n_acc, t_acc,
-                friction, False)
+                friction, False, SWEEPS if substep == SUBSTEPS - 1 else 1)
         cold = cold[:0]   # warm from the second substep on
         for r in range(count):   # (loops: numba compiles an operation on whole arrays with a shape check
             n_sum[r] += n_acc[r]   # whose message's formatting costs a first run a second of compiling)
@@ -211,13 +217,13 @@ def _pair_couplings(si, sj, L, partner, count, inverse):
 
 @compiled
 def _sweeps(everything, cold, si, sj, N, L, goals, pairs, mass, mass_t, partner, inverse, vel, n_acc, t_acc,
-            friction, biased):
-    """Sweeps (_sweep) over every row while they converge (at most SWEEPS), then over the rows
+            friction, biased, sweeps):
+    """Sweeps (_sweep) over every row while they converge (at most `sweeps`), then over the rows
     `cold` without an impulse to start from (at most COLD_SWEEPS): each set until no sweep changes
     an accumulated impulse by more than TOLERANCE of the largest, or a sweep changes them by more
     than SHRINK of the sweep before."""
     for cold_rows in (False, True):
-        which, most = (cold, COLD_SWEEPS) if cold_rows else (everything, SWEEPS)
+        which, most = (cold, COLD_SWEEPS) if cold_rows else (everything, sweeps)
         before = np.inf
         for _ in range(most if which.shape[0] > 0 else 0):
             change, largest = _sweep(which, si, sj, N, L, goals, pairs, mass, mass_t, partner, inverse, vel, n_acc,
