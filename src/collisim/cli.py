@@ -299,28 +299,41 @@ def scene_code(error: BaseException) -> str | None:
 
 def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
-    with warnings.catch_warnings(), signals_interrupt():
+    with warnings.catch_warnings(), signals_interrupt() as received:
         warnings.simplefilter("always")
         warnings.showwarning = show_note
         try:
             status = COMMANDS[args.command](args)
-        except ValueError as error:
-            say(f"collisim: error: {error}")
-            status = 2
         except KeyboardInterrupt as interrupt:
-            signum = getattr(interrupt, "signum", signal.SIGINT)
-            say(f"collisim: interrupted ({signal.Signals(signum).name}); no file written")
-            status = 128 + signum
-        except BrokenPipeError:  # the reader (e.g. `head`) stopped reading: stop quietly
-            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
-            status = 0
-        except Exception as error:   # noqa: BLE001 - last: the scene's own code, or a defect of collisim's
-            where = scene_code(error)
-            if where is None:
-                raise   # collisim's own: the traceback is the report
-            say(f"collisim: error: the scene's code raised {type(error).__name__}: {error} ({where})")
-            status = 2
+            status = _interrupted(getattr(interrupt, "signum", signal.SIGINT))
+        except Exception as error:   # noqa: BLE001 - said in one line, or a defect of collisim's
+            # after a signal, any error is the interrupt's, which C code it ran through may have
+            # put in its own words (interrupts.signals_interrupt)
+            status = _interrupted(received[0]) if received else _failed(error)
     return status
+
+
+def _failed(error: Exception) -> int:
+    """The exit status of a command that raised `error`, having said why in one line; or the
+    error raised again, a defect of collisim's, whose traceback is the report."""
+    if isinstance(error, ValueError):
+        say(f"collisim: error: {error}")
+        return 2
+    if isinstance(error, BrokenPipeError):  # the reader (e.g. `head`) stopped reading: stop quietly
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
+    where = scene_code(error)
+    if where is None:
+        raise error
+    say(f"collisim: error: the scene's code raised {type(error).__name__}: {error} ({where})")
+    return 2
+
+
+def _interrupted(signum: int) -> int:
+    """Say that a signal ended the command (every output's temporary is removed by then); its
+    exit status."""
+    say(f"collisim: interrupted ({signal.Signals(signum).name}); no file written")
+    return 128 + signum
 
 
 def run(argv=None) -> None:

@@ -7,6 +7,10 @@ types and constants, a named tuple's constructor), and an exception raised there
 boxing code: the process dies of a segmentation fault, or Python reports a SystemError, instead
 of cleaning up. So the handler here never raises while such a call is on the stack: it traces
 the interpreter (sys.settrace) until the next line or return of ordinary code, and raises there.
+
+That code may itself have been called from C: the interrupt raised in a Python hook that numpy's
+C code called came out of it as a TypeError of numpy's. So once a signal has landed, whatever
+error ends the block is taken for the interrupt (signals_interrupt).
 """
 from __future__ import annotations
 
@@ -67,10 +71,12 @@ def _raise_in_ordinary_code(frame, raise_now):
 def signals_interrupt(signals=STOP_SIGNALS):
     """While open, each of `signals` raises Interrupted in the main thread (never while compiled
     code returns its result: see the module); once one has, further ones are ignored so that
-    the clean-up runs to its end. Outside the main thread it does nothing (Python delivers
-    signals to the main thread only)."""
+    the clean-up runs to its end, and any other error that leaves the block is the interrupt's
+    (C code it ran through may raise its own in its place). Yields the signals received (a list:
+    empty until one is). Outside the main thread it does nothing (Python delivers signals to
+    the main thread only)."""
     if threading.current_thread() is not threading.main_thread():
-        yield
+        yield []
         return
     fired, tracing, closing = [], [], []
 
@@ -95,7 +101,15 @@ def signals_interrupt(signals=STOP_SIGNALS):
         for number in signals:
             previous[number] = signal.getsignal(number)
             signal.signal(number, stop)
-        yield
+        yield fired
+    except Exception as error:
+        if fired:
+            # the interrupt was raised in Python code that C code called, and the C code put an
+            # error of its own in its place: numpy's tofile (the typeset text's cache,
+            # render/textcache.py) asks isinstance(file, os.PathLike), whose hook is Python; the
+            # interrupt raised there made numpy take the file for a path and raise TypeError
+            raise Interrupted(fired[0]) from error
+        raise
     finally:
         closing.append(True)
         if tracing and sys.gettrace() is tracing[0]:
