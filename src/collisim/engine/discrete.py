@@ -48,7 +48,7 @@ from ..response.solver import add_contact_motion, collide
 from ..response.warmstart import no_memory, recall, remember
 from ..statics.segment_index import build_segment_index
 from .frames import constant_angles, new_frames
-from .eventlog import append, log_events, new_log, with_room
+from .eventlog import append, in_canonical_order, log_events, new_log, with_room
 from .fast_polygons import (fast_note, fly_swept, keep_starts, mark_swept, new_fast, note_outpaced, outpaced,
                             segment_reach)
 from .islands import new_sleep
@@ -241,7 +241,8 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
     sleep: which bodies sleep (engine/islands.py), in place (a world that never sleeps compiles
     none of it: sleep_paths.py);
     work: the step's per-body arrays (Work). phase_cycles (len(PHASES) + 1,) int64 receives the
-    cycles per phase (engine/profile.py) and their total. Returns (log, memory, contacts)."""
+    cycles per phase (engine/profile.py) and their total. Returns (log, memory, contacts, whether
+    the log is in canonical order: eventlog.log_events then need not check it in Python)."""
     start = cycles()
     b, s = bodies, statics
     n = b.positions.shape[0]
@@ -333,7 +334,7 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
             copy_rows(b.angular_velocities, out.angular_velocities[frame], n)
         t = _lap(phase_cycles, RECORD, t)
     phase_cycles[TOTAL] += cycles() - start
-    return log, memory, Contacts(found, rows, count, pairs, touching)
+    return log, memory, Contacts(found, rows, count, pairs, touching), in_canonical_order(log)
 
 
 class DiscreteStepper:
@@ -381,7 +382,7 @@ class DiscreteStepper:
         out = new_frames(count, len(b.positions), turning, into)
         self.log.size[0] = 0
         self.work.fast.outpaced[:] = 0
-        self.log, self.memory, self.contacts = self.profile.timed(lambda phase_cycles: run_frames(
+        self.log, self.memory, self.contacts, ordered = self.profile.timed(lambda phase_cycles: run_frames(
             b, self.statics, self.broad, self.sleep, self.dt, self.substeps, self.step_count, out, self.log,
             self.memory, self.contacts, self.work, phase_cycles))
         if out.approximate.any() and not self.warnings:
@@ -391,4 +392,4 @@ class DiscreteStepper:
         self.step_count += count * self.substeps
         if not turning:
             out = constant_angles(out, b.angles.copy(), b.angular_velocities.copy())
-        return out, log_events(self.log)
+        return out, log_events(self.log, ordered=ordered)
