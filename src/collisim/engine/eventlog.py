@@ -29,8 +29,8 @@ def with_room(log, extra):
     if need <= log.time.shape[0]:
         return log
     room = new_log(max(need, 2 * log.time.shape[0]))   # (arrays.grown's rule)
-    # one loop over the rows, not arrays.grown for each field: that compiled four kernels, one
-    # for each of the fields' array types, about a second of a first run's compiling
+    # one loop over the rows, not arrays.grown for each field: that compiled a kernel for each of
+    # the fields' four array types, in every first run (docs/benchmarks.md, the first run)
     for k in range(used):
         room.time[k], room.kind[k], room.i[k], room.j[k] = log.time[k], log.kind[k], log.i[k], log.j[k]
         room.impulse[k], room.point[k, 0], room.point[k, 1] = log.impulse[k], log.point[k, 0], log.point[k, 1]
@@ -55,7 +55,7 @@ def append(log, t, kind, i, j, impulse, x, y):
 @kernel
 def in_canonical_order(log):
     """Are the logged collisions in canonical (time, kind, i, j) order already (Events.in_order,
-    in one pass: a block of a world asleep logs its supports in that order, a few thousand)?"""
+    in one pass where they were logged: a block of a world asleep logs its supports in order)?"""
     for k in range(1, log.size[0]):
         if log.time[k] != log.time[k - 1]:
             if log.time[k] < log.time[k - 1]:
