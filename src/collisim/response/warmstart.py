@@ -61,27 +61,21 @@ def remember(rows, count, n, statics=N_WALLS):
 
 @compiled
 def recall(rows, count, memory, n, statics=N_WALLS):
-    """Each row's starting impulse: what its contact had last step, 0 if it had none."""
+    """Each row's starting impulse: what its contact had last step, 0 if it had none. The rows'
+    keys mostly ascend as the memory's do: a row looks first among the few keys after the one
+    the row before found (a pile's rows find theirs there), then by binary search."""
     keys = memory.keys
-    hint = 0   # where the row before found its key: the rows' keys mostly ascend as the memory's do
+    size, hint = keys.shape[0], 0
     for r in range(count):
         rows.impulse[r], rows.friction[r] = 0.0, 0.0
-        if keys.shape[0] > 0:
-            key = row_key(rows, r, n, statics)
-            at = _near(keys, key, hint)
-            if at < keys.shape[0] and keys[at] == key:
-                rows.impulse[r], rows.friction[r] = memory.impulses[at], memory.frictions[at]
-                hint = at + 1
-
-
-@kernel
-def _near(keys, key, hint):
-    """np.searchsorted(keys, key) (keys ascending), looked for first among the few keys from
-    `hint` on: a pile's rows find their contacts' keys there, in a step or two instead of a
-    binary search through all of them."""
-    at, stop = hint, min(hint + 4, keys.shape[0])
-    while at < stop and keys[at] < key:
-        at += 1
-    if at < stop and keys[at] >= key and (at == 0 or keys[at - 1] < key):
-        return at
-    return np.searchsorted(keys, key)
+        if size == 0:
+            continue
+        key = row_key(rows, r, n, statics)
+        at, stop = hint, min(hint + 4, size)
+        while at < stop and keys[at] < key:
+            at += 1
+        if not (at < stop and keys[at] >= key and (at == 0 or keys[at - 1] < key)):
+            at = np.searchsorted(keys, key)   # (the same answer, the long way)
+        if at < size and keys[at] == key:
+            rows.impulse[r], rows.friction[r] = memory.impulses[at], memory.frictions[at]
+            hint = at + 1
