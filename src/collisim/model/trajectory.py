@@ -94,7 +94,6 @@ class Events:
 MAX_EVENTS = 10_000_000   # events a run keeps (about 500 MB); the per-frame counts are always complete
 
 
-
 def _with_room(array, size: int, used: int):
     """`array` if it has `size` rows, else a copy with room for max(size, twice as many) holding
     its first `used` (arrays.grown in numpy: called from Python, the compiled one would compile a

@@ -123,8 +123,8 @@ def soft_step(rows, count, radii, lin, ang, accelerations, inverse_masses, inver
         _sweeps(everything, cold, si, sj, N, L, goals, pairs, mass, mass_t, partner, inverse, v, n_acc, t_acc,
                 friction, False, SWEEPS if substep == SUBSTEPS - 1 else 1)
         cold = cold[:0]   # warm from the second substep on
-        for r in range(count):   # (loops: numba compiles an operation on whole arrays with a shape check
-            n_sum[r] += n_acc[r]   # whose message's formatting costs a first run a second of compiling)
+        for r in range(count):   # (a loop: an operation on two whole arrays compiles numba's shape
+            n_sum[r] += n_acc[r]   # check and its message's formatting: docs/design.md, compiling)
             t_sum[r] += t_acc[r]
     for r in range(count):
         rows.impulse[r], rows.friction[r], rows.pseudo[r] = n_sum[r], t_sum[r], 0.0

@@ -74,7 +74,7 @@ def recall(rows, count, memory, n, statics=N_WALLS):
         at, stop = hint, min(hint + 4, size)
         while at < stop and keys[at] < key:
             at += 1
-        if not (at < stop and keys[at] >= key and (at == 0 or keys[at - 1] < key)):
+        if at == stop or (at == hint and at > 0 and keys[at - 1] >= key):   # not within the few
             at = np.searchsorted(keys, key)   # (the same answer, the long way)
         if at < size and keys[at] == key:
             rows.impulse[r], rows.friction[r] = memory.impulses[at], memory.frictions[at]
