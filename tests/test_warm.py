@@ -1,15 +1,20 @@
-"""A first render compiles in two processes: the helper compiles the discrete step's far end
-(engine/warm.py) for exactly the types the step hands those kernels, and ends with the render."""
+"""A first render compiles in two processes: the helper, handed every world of the scene, compiles
+the discrete step's far end (engine/warm.py) for exactly the types the step hands those kernels,
+and ends with the render."""
 import os
+import pickle
 import tempfile
 
 import numba
+import numpy as np
+import pytest
 from numba.core import event
 
 import collisim
 from collisim import warm
 from collisim.engine.discrete import DiscreteStepper
 from collisim.engine.warm import compile_far_end, far_end_calls
+from test_scenes import SCENES, worlds
 
 
 def far_end_compiles(name: str) -> tuple:
@@ -54,3 +59,20 @@ def test_no_helper_starts_once_the_step_is_in_the_cache():
     collisim.simulate(scene.replace(seconds=1.0 / scene.fps))
     assert warm.kernels_cached()
     assert warm.start(scene) is None
+
+
+@pytest.mark.parametrize("name", SCENES)
+def test_the_helper_is_handed_the_worlds_of_a_shipped_scene_intact(name):
+    # the render pickles the helper's work: a world that did not survive it would stop the
+    # render on a first run, or have the helper compile another world's step
+    scene = collisim.load_scene(name)
+    work = pickle.loads(pickle.dumps(warm.helper_work(*warm.steps_of(scene))))
+    held = worlds(scene)
+    for _, (method, world, *_) in work:
+        assert any(np.array_equal(world.positions, other.positions) and np.array_equal(world.radii, other.radii)
+                   and np.array_equal(world.shapes, other.shapes) and np.array_equal(world.box, other.box) and
+                   len(world.level_segments) == len(other.level_segments) for other in held)
+    # every step the scene runs, by method and broad phase
+    first, later = warm.steps_of(scene)
+    assert len(first + later) == len(held)
+    assert {(step[0], step[4]) for _, step in work} == {(step[0], step[4]) for step in first + later}

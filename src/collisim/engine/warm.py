@@ -31,12 +31,12 @@ from .islands import fall_asleep, keep_sleepers, log_carried, sleepers_touching,
 from .statics_paths import map_number, mark_held, statics_phase, statics_scratch
 
 
-def far_end_calls(world, fps: float, substeps: int = 1, broadphase: str = "auto") -> list:
+def far_end_calls(world, fps: float, substeps: int = 1, broadphase: str = "auto", rest_speed=None) -> list:
     """The kernels of run_frames' far end, each with arguments of the types run_frames hands them
     (a stepper's own state, which the calls may change), in the reverse of the order it compiles
     them: the sleepers' (a world that may sleep), the statics, the solver and the integration,
     then the contact phase's from its end: [(kernel, arguments)]."""
-    stepper = DiscreteStepper(world, fps, substeps, broadphase)
+    stepper = DiscreteStepper(world, fps, substeps, broadphase, rest_speed=rest_speed)
     b, s, w, dt, sleep = stepper.bodies, stepper.statics, stepper.work, stepper.dt, stepper.sleep
     n, rows, none = len(b.positions), new_rows(4), np.int64(0)
     the_map = map_number(s.segments)
@@ -79,7 +79,7 @@ def far_end_calls(world, fps: float, substeps: int = 1, broadphase: str = "auto"
     ]
 
 
-def compile_far_end(world, fps: float, substeps: int = 1, broadphase: str = "auto") -> None:
+def compile_far_end(world, fps: float, substeps: int = 1, broadphase: str = "auto", rest_speed=None) -> None:
     """Compile (or load from the cache) the kernels of far_end_calls, in its order."""
-    for kernel, arguments in far_end_calls(world, fps, substeps, broadphase):
+    for kernel, arguments in far_end_calls(world, fps, substeps, broadphase, rest_speed):
         compile_for_compiled_code(kernel, arguments)
