@@ -236,3 +236,19 @@ def test_angles_and_angular_velocities_left_as_none_are_zero():
     """None, like velocities=None, means the default (it read 'angles contains NaN or inf')."""
     world = collisim.World([[5.0, 5.0]], angles=None, angular_velocities=None)
     assert world.angles.tolist() == [0.0] and world.angular_velocities.tolist() == [0.0]
+
+
+@pytest.mark.parametrize("n", [300, 5000])   # checked in numpy, and through the contacts query
+def test_the_first_overlapping_pair_is_named_as_brute_force_finds_it(n):
+    from scipy.spatial import cKDTree
+    rng = np.random.default_rng(n)
+    side = 6.0 * np.sqrt(n)   # sparse: a few pairs in a hundred bodies overlap
+    positions, radii = rng.uniform(1.0, side - 1.0, (n, 2)), rng.uniform(0.3, 0.6, n)
+    pairs = np.array(sorted(cKDTree(positions).query_pairs(1.2)))
+    depths = radii[pairs].sum(axis=1) - np.hypot(*(positions[pairs[:, 1]] - positions[pairs[:, 0]]).T)
+    deep = np.flatnonzero(depths > 1e-9 * radii[pairs].sum(axis=1))
+    assert 1 < deep.size < n // 10
+    i, j = pairs[deep[0]]
+    world = collisim.World(positions, radii=radii, box=(0.0, 0.0, side, side))
+    with pytest.raises(ValueError, match=rf"^bodies {i} and {j} overlap by {depths[deep[0]]:.3g} at the start"):
+        collisim.simulate(collisim.Scene(world=world, fps=30, seconds=0.1))

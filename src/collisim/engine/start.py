@@ -18,6 +18,7 @@ from ..narrowphase.statics import touching_segments
 from ..queries.contacts import contacts
 
 TOUCH_TOLERANCE = 1e-9   # relative to the contact distance
+BRUTE_FORCE, ROWS = 4096, 256   # circles checked pair by pair in numpy, in blocks of rows (_first_overlap)
 
 
 def check_scene(scene, methods) -> None:
@@ -58,13 +59,10 @@ def check_ccd_covers(world) -> None:
 def no_overlaps(world) -> None:
     """ValueError naming the first pair of bodies, or body and segment, that overlap."""
     if world.n >= 2:
-        found = contacts(world)
-        pairs, depths = found["pairs"], found["depths"]
-        deep = np.flatnonzero(depths > world.radii[pairs].sum(axis=1) * TOUCH_TOLERANCE)
-        if deep.size:
-            i, j = pairs[deep[0]]
-            raise ValueError(f"bodies {i} and {j} overlap by {depths[deep[0]]:.3g} at the start; "
-                             f"place them apart or touching")
+        overlap = _first_overlap(world)
+        if overlap is not None:
+            i, j, depth = overlap
+            raise ValueError(f"bodies {i} and {j} overlap by {depth:.3g} at the start; place them apart or touching")
     if len(world.segments):
         pairs, depths = touching_segments(world.positions, world.radii, world.segments, world.box)
         depths = _polygon_depths(world, pairs, depths)
@@ -75,6 +73,30 @@ def no_overlaps(world) -> None:
                              f"place it apart or touching")
     if world.map is not None:
         _outside_map(world)
+
+
+def _first_overlap(world):
+    """(i, j, depth) of the first pair of bodies, in (i, j) order, that overlap by more than the
+    tolerance, or None. A world of at most BRUTE_FORCE circles is checked pair by pair in numpy:
+    the contacts query (queries/contacts.py) compiles the grid and the contact table for Python,
+    about 2 s of a first run's first frame spent before the step even starts compiling."""
+    if world.n > BRUTE_FORCE or np.any(world.shapes != CIRCLE):
+        found = contacts(world)
+        pairs, depths = found["pairs"], found["depths"]
+        deep = np.flatnonzero(depths > world.radii[pairs].sum(axis=1) * TOUCH_TOLERANCE)
+        return None if deep.size == 0 else (*pairs[deep[0]], depths[deep[0]])
+    positions, radii, n = world.positions, world.radii, world.n
+    later = np.arange(n)
+    for first in range(0, n - 1, ROWS):
+        rows = np.arange(first, min(first + ROWS, n - 1))
+        reach = radii[rows, None] + radii[None, :]
+        depth = reach - np.hypot(positions[None, :, 0] - positions[rows, None, 0],
+                                 positions[None, :, 1] - positions[rows, None, 1])
+        deep = (depth > reach * TOUCH_TOLERANCE) & (later[None, :] > rows[:, None])
+        if deep.any():
+            row, j = np.unravel_index(np.argmax(deep), deep.shape)   # the first in (i, j) order
+            return int(rows[row]), int(j), float(depth[row, j])
+    return None
 
 
 def _polygon_depths(world, pairs, depths):
