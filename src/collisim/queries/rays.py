@@ -151,7 +151,9 @@ def check_rays(origins, directions, max_distance) -> tuple[np.ndarray, np.ndarra
         raise ValueError(f"max_distance must be a number or one number per ray; got {max_distance!r}") from None
     if max_distances.shape not in ((), (m,)):
         raise ValueError(f"max_distance must be a number or have shape ({m},); got shape {max_distances.shape}")
-    max_distances = np.ascontiguousarray(np.broadcast_to(max_distances, (m,)))
+    # a copy, always: one ray's broadcast number would be a read-only view, another type to numba,
+    # and unit_directions and cast_rays would compile twice (raycast's one ray, raycast_many's)
+    max_distances = np.broadcast_to(max_distances, (m,)).copy()
     units = np.empty((m, 2))
     bad = unit_directions(origins, directions, max_distances, units)
     if bad >= 0:
