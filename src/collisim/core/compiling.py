@@ -84,7 +84,7 @@ def compiled(function=None, *, python_runs_it=False, **options):
         if not from_python:
             with made:
                 if not from_python:
-                    from_python.append(njit(**options)(_copy_named(function, FROM_PYTHON)))
+                    from_python.append(njit(**options, no_cfunc_wrapper=True)(_copy_named(function, FROM_PYTHON)))
         return from_python[0](*args, **kwargs)
 
     # what compiled code compiles, and how (compile_for_compiled_code too)
