@@ -31,12 +31,15 @@ def far_end_compiles(name: str) -> tuple:
 def test_the_helper_compiles_each_kernel_for_the_types_the_step_hands_it():
     # The step's run compiled (or loaded) every kernel it calls, for the types it hands them,
     # into the cache folder: a helper that asks for any other type compiles it again here.
-    # particles_250: a gas; teacher_drop: a world that may sleep, under gravity
+    # particles_250: a gas; teacher_drop: a world that may sleep, under gravity; bounding_volumes:
+    # polygons, whose flight, fast pairs and bounding-volume funnel the helper compiles too
     (gas_helped, gas_logged, gas_again), (sleeping_helped, sleeping_logged, sleeping_again) = (
         far_end_compiles("particles_250"), far_end_compiles("teacher_drop"))
+    polygons_helped, _, polygons_again = far_end_compiles("bounding_volumes")
     assert sleeping_helped == gas_helped + 5   # the sleepers' kernels
+    assert polygons_helped >= gas_helped + 3
     assert gas_logged > 0 and sleeping_logged > 0   # bodies met: the step ran its contacts
-    assert gas_again == 0 and sleeping_again == 0
+    assert gas_again == 0 and sleeping_again == 0 and polygons_again == 0
 
 
 def test_the_helper_starts_on_a_first_run_and_ends_with_the_render_leaving_no_file(tmp_path, monkeypatch):

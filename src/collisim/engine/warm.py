@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..core.arrays import copy_rows
 from ..core.compiling import compile_for_compiled_code
 from ..response.pair_rows import pair_manifolds
 from ..response.rows import near_segments, new_found, new_rows, rows_from, segment_manifolds, wall_manifolds
@@ -25,7 +26,10 @@ from ..response.solve import hold_contacts, rest_contacts
 from ..response.solver import add_contact_motion, collide
 from ..response.warmstart import recall, remember
 from .discrete import DiscreteStepper, _log_contacts
-from .eventlog import new_log
+from .eventlog import in_canonical_order, new_log
+from .fast_polygons import fly, pair_outpaced
+from .frames import new_frames
+from .hierarchy import count_placed
 from .integrate import integrate
 from .islands import fall_asleep, keep_sleepers, log_carried, sleepers_touching, wake_near
 from .statics_paths import map_number, mark_held, statics_phase, statics_scratch
@@ -34,8 +38,9 @@ from .statics_paths import map_number, mark_held, statics_phase, statics_scratch
 def far_end_calls(world, fps: float, substeps: int = 1, broadphase: str = "auto", rest_speed=None) -> list:
     """The kernels of run_frames' far end, each with arguments of the types run_frames hands them
     (a stepper's own state, which the calls may change), in the reverse of the order it compiles
-    them: the sleepers' (a world that may sleep), the statics, the solver and the integration,
-    then the contact phase's from its end: [(kernel, arguments)]."""
+    them: the frame's record, the sleepers' (a world that may sleep), the statics (with the
+    swept polygons' flight), the solver and the integration, then the contact phase's from its
+    end: [(kernel, arguments)]."""
     stepper = DiscreteStepper(world, fps, substeps, broadphase, rest_speed=rest_speed)
     b, s, w, dt, sleep = stepper.bodies, stepper.statics, stepper.work, stepper.dt, stepper.sleep
     n, rows, none = len(b.positions), new_rows(4), np.int64(0)
@@ -46,6 +51,16 @@ def far_end_calls(world, fps: float, substeps: int = 1, broadphase: str = "auto"
     memory = stepper.memory
     found, pairs, flags = new_found(4), np.empty((0, 2), np.int64), np.zeros(n, np.bool_)
     no_touching = np.zeros(0, np.bool_)   # which of the (no) pairs touch
+    out = new_frames(1, n)   # a frame's rows, as run_frames records them
+    recording = [(in_canonical_order, (log,)), (copy_rows, (b.positions, out.positions[0], n)),
+                 (copy_rows, (b.angles, out.angles[0], n)), (copy_rows, (w.recorded, out.hierarchy[0], 4))]
+    if w.levels is not None:   # the bounding-volume funnel of a world with polygons (hierarchy.py)
+        recording.append((count_placed, (b, pairs, w.vertices, *w.levels, no_touching, out.hierarchy[0])))
+    polygons = [] if s.volumes is None else [   # the fast polygons' flight, and their check (fast_polygons.py)
+        (fly, (b, none, w.fast.start[0], s.box, s.restitution, s.friction, s.rest_speed, s.keep, dt, log, now,
+               out.collisions[0])),
+    ]
+    outpacing = [] if s.volumes is None else [(pair_outpaced, (b, w.margin, dt, sleep.asleep))]
     sleeping = [] if sleep.on is None else [
         (fall_asleep, (sleep, b, rows, none, dt)),
         (keep_sleepers, (sleep, memory, memory, n, the_map + 1)),
@@ -55,8 +70,9 @@ def far_end_calls(world, fps: float, substeps: int = 1, broadphase: str = "auto"
         (sleepers_touching, (sleep, b, w.vertices, pairs, no_touching, pairs, no_touching, s.volumes)),
         (wake_near, (sleep, b, w.vertices, w.margin, pairs, s.volumes)),
     ]
-    return sleeping + [
+    return recording + sleeping + [
         (statics_phase, (b, s, scratch, dt, log, now, collisions)),
+    ] + polygons + [
         (mark_held, (rows, none, scratch[3], the_map)),
         (remember, (rows, none, n, the_map + 1)),
         (_log_contacts, (rows, none, log, now, collisions, the_map)),
@@ -68,6 +84,7 @@ def far_end_calls(world, fps: float, substeps: int = 1, broadphase: str = "auto"
         (recall, (rows, none, memory, n, the_map + 1)),
         (collide, (rows, none, v, turn, b.accelerations, m, inertia, s.restitution, s.friction, s.rest_speed, dt,
                    s.iterations)),
+    ] + outpacing + [
         (rows_from, (found, none, b, rows)),
         (segment_manifolds, (b, w.vertices, w.margin, s.segments, found, none, s.volumes, sleep.asleep)),
         (wall_manifolds, (b, w.vertices, w.margin, dt, s.box, s.rest_speed, flags, found, none, s.volumes,
