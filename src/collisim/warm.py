@@ -9,7 +9,8 @@ the first chapter's) from the other end than the render (`helper_work`):
   (collision_map) compiles ccd's event loop beside the render's discrete step instead of after
   it, the two sharing almost no kernel;
 * then the first world's discrete step from its far end (engine/warm.py), while the render
-  compiles it from its start, and the disc and ring kernels of the drawing;
+  compiles it from its start (before it, a world with polygons' first funnel, which the render
+  counts from Python), and the disc and ring kernels of the drawing;
 * then the first method's other broad phases, last first;
 
 and then the later chapters' steps, in the order the render reaches them.
@@ -36,6 +37,7 @@ from .core import compiling
 from .engine.ccd.events import _run as ccd_run
 from .engine.ccd.stepper import CCDStepper
 from .engine.discrete import DiscreteStepper, run_frames
+from .engine.hierarchy import world_counts
 from .engine.warm import compile_far_end
 from .render import splat
 
@@ -153,6 +155,7 @@ def main(path: str) -> None:
     os.remove(path)
     for what, (method, world, fps, substeps, broadphase, rest_speed, tc) in work:
         if what == "far end":
+            world_counts(world)   # a world with polygons: its first frame's funnel, from Python
             compile_far_end(world, fps, substeps, broadphase, rest_speed)
             compile_drawing()
         else:

@@ -288,25 +288,30 @@ def hierarchy(world, positions=None, angles=None, pairs=None) -> dict:
     the pairs passing each level."""
     positions = world.positions if positions is None else np.ascontiguousarray(positions, np.float64)
     angles = world.angles if angles is None else np.ascontiguousarray(angles, np.float64)
+    pairs, levels, args = _levels(world, positions, angles, pairs)
+    alone = each_level(*args, pairs, np.empty((len(pairs), 4), np.bool_), capsules_flag(world.shapes))
+    return {"pairs": pairs, "levels": levels, "passes": alone,
+            "counts": (levels[:, None] > np.arange(4)).sum(axis=0)}
+
+
+def _levels(world, positions, angles, pairs) -> tuple:
+    """(pairs, each pair's level, the bodies' arrays pair_levels read) of hierarchy()."""
     if pairs is None:
         reach = world.radii[:, None] * (1.0 + 2.0 * SLACK)
         pairs = find_pairs("grid", positions - reach, positions + reach)
     pairs = np.ascontiguousarray(np.asarray(pairs, np.int64).reshape(-1, 2))
     vertices, volumes = volumes_of(world, positions, angles)
     args = (world.shapes, positions, world.radii, vertices, world.vertex_start, volumes)
-    capsules = capsules_flag(world.shapes)
-    levels = pair_levels(*args, pairs, np.empty(len(pairs), np.int64), capsules)
-    alone = each_level(*args, pairs, np.empty((len(pairs), 4), np.bool_), capsules)
-    return {"pairs": pairs, "levels": levels, "passes": alone,
-            "counts": (levels[:, None] > np.arange(4)).sum(axis=0)}
+    return pairs, pair_levels(*args, pairs, np.empty(len(pairs), np.int64), capsules_flag(world.shapes)), args
 
 
 def world_counts(world) -> np.ndarray:
     """The counts (4,) the discrete engine records for the world's own state (NOT_COUNTED for a
-    world of circles, as record_levels)."""
+    world of circles, as record_levels): the levels alone, not each level on its own."""
     if world.n == 0 or not (world.shapes != CIRCLE).any():
         return np.full(4, NOT_COUNTED, np.int64)
-    return hierarchy(world)["counts"].astype(np.int64)
+    levels = _levels(world, world.positions, world.angles, None)[1]
+    return (levels[:, None] > np.arange(4)).sum(axis=0).astype(np.int64)
 
 
 def false_positive_rates(counts) -> np.ndarray:
