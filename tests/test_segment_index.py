@@ -251,3 +251,25 @@ def test_queries_far_outside_clamp_to_the_border():
     for _ in range(3):
         assert list(segments_near_box(index, (-1e9, -1e9), (1e9, 1e9))) == [0, 1, 2]
     assert index.stamp[0] >= 7
+
+
+@pytest.mark.parametrize("n", [200, 40_000])
+def test_circles_touching_segments_are_found_as_shapely_measures_them(n):
+    # the start check's query (engine/start.py): every circle that touches a segment, through the index
+    import shapely
+    from collisim.narrowphase.statics import touching_segments
+    rng = np.random.default_rng(n)
+    segments = rng.uniform(0.0, 100.0, (150, 4))
+    segments[:5, 2:] = segments[:5, :2]   # points: segments of no length
+    positions, radii = rng.uniform(0.0, 100.0, (n, 2)), rng.uniform(0.05, 0.5, n)
+    pairs, depths = touching_segments(positions, radii, segments, np.array(BOX))
+    points = shapely.points(positions)
+    lines = [shapely.linestrings(s.reshape(2, 2)) if s[0] != s[2] or s[1] != s[3] else shapely.points(s[:2])
+             for s in segments]
+    exact = np.stack([radii - shapely.distance(points, line) for line in lines], axis=1)   # (n, m), shapely's
+    expected = {tuple(pair) for pair in np.argwhere(exact > 1e-12).tolist()}
+    found = {tuple(pair): depth for pair, depth in zip(pairs.tolist(), depths)}
+    assert [tuple(pair) for pair in pairs.tolist()] == sorted(found)   # bodies, then segments, in order
+    assert expected <= set(found) and all(exact[pair] > -1e-12 for pair in found)
+    assert all(abs(found[pair] - exact[pair]) < 1e-12 for pair in found)
+    assert len(expected) > 10
