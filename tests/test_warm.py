@@ -79,3 +79,17 @@ def test_the_helper_is_handed_the_worlds_of_a_shipped_scene_intact(name):
     first, later = warm.steps_of(scene)
     assert len(first + later) == len(held)
     assert {(step[0], step[4]) for _, step in work} == {(step[0], step[4]) for step in first + later}
+
+
+def test_the_helpers_ray_query_is_the_one_a_scene_casts_from_a_recorded_frame():
+    # raycast's overlay casts its sensor's rays at each frame's recorded positions and angles;
+    # the helper casts one ray at the world's own: the same types, so the render loads its kernels
+    scene = collisim.load_scene("raycast")
+    frame = collisim.simulate(scene.replace(seconds=2.0 / scene.fps))
+    origins, directions = np.array([[16.0, 9.0], [16.0, 9.0]]), np.array([[1.0, 0.0], [0.0, 1.0]])
+    hits = collisim.raycast_many(scene.world, origins, directions, 40.0, positions=frame.positions[-1],
+                                 angles=frame.angles[-1])
+    assert hits.distance.shape == (2,)
+    with event.install_recorder("numba:compile") as recorded:
+        warm.compile_rays(scene.world)
+    assert sum(ev.is_start for _, ev in recorded.buffer) == 0

@@ -13,7 +13,9 @@ the first chapter's) from the other end than the render (`helper_work`):
   counts from Python), and the disc and ring kernels of the drawing;
 * then the first method's other broad phases, last first;
 
-and then the later chapters' steps, in the order the render reaches them.
+and then the later chapters' steps, in the order the render reaches them; and last the ray query
+for a world, which the render compiles for Python, after its step, when a scene's overlay casts
+rays (the raycast scene).
 
 It saves what it compiles into the cache, where the render finds it and loads it instead of
 compiling it (docs/benchmarks.md, the first run). The helper writes nothing but kernels into the
@@ -39,6 +41,7 @@ from .engine.ccd.stepper import CCDStepper
 from .engine.discrete import DiscreteStepper, run_frames
 from .engine.hierarchy import world_counts
 from .engine.warm import compile_far_end
+from .queries.rays import raycast_many
 from .render import splat
 
 STEPS = {"discrete": ("engine_*", run_frames), "ccd": ("ccd_*", ccd_run)}   # cache subfolder, step kernel
@@ -149,6 +152,13 @@ def compile_step(method, world, fps, substeps, broadphase, rest_speed, tc) -> No
         DiscreteStepper(world, fps, substeps, broadphase, rest_speed=rest_speed).run(1)
 
 
+def compile_rays(world) -> None:
+    """Compile the ray query (queries/rays.py) for the world's bodies, as a scene's overlay casts
+    its rays from Python once a frame's step is done: one ray from the first body's centre."""
+    if world.n:
+        raycast_many(world, world.positions[:1], np.array([[1.0, 0.0]]), 1.0)
+
+
 def main(path: str) -> None:
     with open(path, "rb") as file:
         work = pickle.load(file)
@@ -160,6 +170,8 @@ def main(path: str) -> None:
             compile_drawing()
         else:
             compile_step(method, world, fps, substeps, broadphase, rest_speed, tc)
+    if work:   # last, what the render compiles for Python only if the scene casts rays
+        compile_rays(work[0][1][1])
 
 
 if __name__ == "__main__":
