@@ -406,3 +406,19 @@ def test_select_smallest_is_a_partial_sort(values):
         assert work[k] == expected[k]
         assert np.all(work[:k] <= work[k]) and np.all(work[k + 1:] >= work[k])
         np.testing.assert_array_equal(np.sort(work), expected)
+
+
+@pytest.mark.parametrize("values", [
+    np.random.default_rng(12).normal(size=500), np.round(np.random.default_rng(13).uniform(0, 5, 500)),
+    np.arange(300.0), np.arange(300.0)[::-1].copy(), np.full(200, 2.0), np.array([1.0]), np.array([2.0, 1.0]),
+])
+def test_the_median_finders_fallback_sorts_a_run_as_numpy_does(values):
+    """What the median finder sorts once quickselect stops converging (heapsort), on a run in
+    the middle of the array, the values outside it left as they were."""
+    from collisim.core.arrays import heap_sort
+
+    work, first, end = values.copy(), len(values) // 5, len(values) - len(values) // 7
+    heap_sort(work, first, end)
+    np.testing.assert_array_equal(work[first:end], np.sort(values[first:end]))
+    np.testing.assert_array_equal(work[:first], values[:first])
+    np.testing.assert_array_equal(work[end:], values[end:])

@@ -12,7 +12,7 @@ import math
 
 import numpy as np
 
-from ..core.arrays import grown
+from ..core.arrays import grown, heap_sort
 from ..core.checks import is_whole
 from ..core.compiling import compiled, kernel
 from ._rays import check_ray, sorted_hits
@@ -136,7 +136,7 @@ def select_smallest(values, end, k):
     rounds = 2 * int(np.log2(end + 1)) + 2
     while last - first > 16:
         if rounds == 0:
-            values[first:last + 1].sort()
+            heap_sort(values, first, last + 1)
             return
         rounds -= 1
         a, b, c = values[first], values[(first + last) // 2], values[last]

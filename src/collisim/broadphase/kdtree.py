@@ -58,7 +58,10 @@ def median_split_value(rows, axis, keys):
     for k in range(m):
         keys[k] = row_centre(rows, k, axis)
     select_smallest(keys, m, half)
-    return 0.5 * keys[:half].max() + 0.5 * keys[half]
+    lower = keys[0]
+    for k in range(1, half):   # (a loop: keys[:half].max() compiles numba's reduction, 0.3 s)
+        lower = max(lower, keys[k])
+    return 0.5 * lower + 0.5 * keys[half]
 
 
 @compiled
@@ -167,7 +170,12 @@ def grow_kdtree(lo, hi, leaf_size, max_depth):
     n = lo.shape[0]
     keys = np.empty(n)
     work, work_rows = np.empty(2 * n, np.intp), np.empty((2 * n, 4))
-    work[:n], work_rows[:n] = np.arange(n), gathered_boxes(lo, hi)
+    boxes = gathered_boxes(lo, hi)
+    # element by element, here and below: an array or a tuple assigned to a slice or a row
+    # compiles numba's shape check and its message (2.3 s of a first kd-tree's compiling)
+    for k in range(n):
+        work[k] = k
+        copy_row(boxes, k, work_rows, k)
     capacity = 2 * n + 1
     node_axis = np.empty(capacity, np.intp)
     node_value = np.empty(capacity)
@@ -175,13 +183,13 @@ def grow_kdtree(lo, hi, leaf_size, max_depth):
     node_first = np.empty(capacity, np.intp)
     node_count = np.empty(capacity, np.intp)
     node_region = np.empty((capacity, 4))
-    node_region[0] = (-np.inf, -np.inf, np.inf, np.inf)
+    node_region[0, 0], node_region[0, 1], node_region[0, 2], node_region[0, 3] = -np.inf, -np.inf, np.inf, np.inf
     leaf_boxes = np.empty(capacity, np.intp)
     n_nodes, n_leaf_boxes, tree_depth = 1, 0, 0
     # Pending nodes, left child on top: node, its run's start and length, depth, and the
     # work array's top when it is taken. At most one pending right child per level.
     stack = np.empty((max_depth + 2, 5), np.intp)
-    stack[0] = (0, 0, n, 0, n)
+    stack[0, 0], stack[0, 1], stack[0, 2], stack[0, 3], stack[0, 4] = 0, 0, n, 0, n
     pending = 1
     while pending > 0:
         pending -= 1
@@ -193,7 +201,8 @@ def grow_kdtree(lo, hi, leaf_size, max_depth):
         node_left[node], node_first[node], node_count[node] = -1, n_leaf_boxes, 0
         if axis < 0:
             leaf_boxes = grown(leaf_boxes, n_leaf_boxes + m)
-            leaf_boxes[n_leaf_boxes:n_leaf_boxes + m] = members
+            for k in range(m):
+                leaf_boxes[n_leaf_boxes + k] = members[k]
             node_count[node] = m
             n_leaf_boxes += m
             continue
@@ -204,7 +213,9 @@ def grow_kdtree(lo, hi, leaf_size, max_depth):
         node_region = grown(node_region, n_nodes)
         node_left[node] = child
         region = (node_region[node, 0], node_region[node, 1], node_region[node, 2], node_region[node, 3])
-        node_region[child], node_region[child + 1] = split_region(region, axis, value)
+        below, above = split_region(region, axis, value)
+        for c in range(4):
+            node_region[child, c], node_region[child + 1, c] = below[c], above[c]
         work, work_rows = grown(work, top + n_right), grown(work_rows, top + n_right)
         right, left = top, first
         for k in range(first, first + m):  # right first: the left compaction overwrites the run
@@ -217,8 +228,10 @@ def grow_kdtree(lo, hi, leaf_size, max_depth):
                 work[left] = work[k]
                 copy_row(work_rows, k, work_rows, left)
                 left += 1
-        stack[pending] = (child + 1, top, n_right, depth + 1, top + n_right)
-        stack[pending + 1] = (child, first, n_left, depth + 1, top + n_right)
+        stack[pending, 0], stack[pending, 1], stack[pending, 2] = child + 1, top, n_right
+        stack[pending, 3], stack[pending, 4] = depth + 1, top + n_right
+        stack[pending + 1, 0], stack[pending + 1, 1], stack[pending + 1, 2] = child, first, n_left
+        stack[pending + 1, 3], stack[pending + 1, 4] = depth + 1, top + n_right
         pending += 2
     return (node_axis[:n_nodes], node_value[:n_nodes], node_left[:n_nodes], node_first[:n_nodes],
             node_count[:n_nodes], leaf_boxes[:n_leaf_boxes], node_region[:n_nodes], tree_depth)

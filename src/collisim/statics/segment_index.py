@@ -41,6 +41,7 @@ from collections import namedtuple
 
 import numpy as np
 
+from ..core.arrays import heap_sort
 from ..core.compiling import compiled
 from ..core.geometry.segment import clip_step
 
@@ -172,9 +173,9 @@ def segments_near(index, lo_x, lo_y, hi_x, hi_y, out):
                     count += 1
     # Ascending order, so callers treat segments in index order (deterministic
     # results, as with the all-segments loop). Lists are short: insertion sort;
-    # a huge query box falls back to numpy's sort rather than going quadratic.
+    # a huge query box falls back to a heapsort rather than going quadratic.
     if count > 64:
-        out[:count].sort()
+        heap_sort(out, 0, count)
         return count
     for i in range(1, count):
         s = out[i]
