@@ -310,9 +310,14 @@ def come_to_rest(rows, count, lin, ang, inverse_masses, inverse_inertias, fricti
     below 0), and friction takes out what sliding it can. Each correction takes one row's
     relative velocity toward 0, which only ever lowers kinetic energy: a resting contact does
     not bounce."""
-    pressed = np.flatnonzero(rows.impulse[:count] > 0.0)
-    if pressed.shape[0] == 0:
+    pressed, m = np.empty(count, np.int64), 0   # the rows that pressed (a loop: np.flatnonzero
+    for r in range(count):                      # compiles numba's own, and its array expression)
+        if rows.impulse[r] > 0.0:
+            pressed[m] = r
+            m += 1
+    if m == 0:
         return
+    pressed = pressed[:m]
     I, J, N, L, impulses, frictions = rows.i, rows.j, rows.normal, rows.lever, rows.impulse, rows.friction
     mass, mass_t = rows.mass, rows.mass_t
     scale = _largest(impulses, count)
