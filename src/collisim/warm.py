@@ -171,7 +171,8 @@ def main(path: str) -> None:
         else:
             compile_step(method, world, fps, substeps, broadphase, rest_speed, tc)
     if work:   # last, what the render compiles for Python only if the scene casts rays
-        compile_rays(work[0][1][1])
+        _, (_, world, *_) = work[0]
+        compile_rays(world)
 
 
 if __name__ == "__main__":

@@ -290,8 +290,12 @@ def hierarchy(world, positions=None, angles=None, pairs=None) -> dict:
     angles = world.angles if angles is None else np.ascontiguousarray(angles, np.float64)
     pairs, levels, args = _levels(world, positions, angles, pairs)
     alone = each_level(*args, pairs, np.empty((len(pairs), 4), np.bool_), capsules_flag(world.shapes))
-    return {"pairs": pairs, "levels": levels, "passes": alone,
-            "counts": (levels[:, None] > np.arange(4)).sum(axis=0)}
+    return {"pairs": pairs, "levels": levels, "passes": alone, "counts": _counts(levels)}
+
+
+def _counts(levels) -> np.ndarray:
+    """The pairs passing each of the 4 levels (4,) int64, from each pair's level (k,)."""
+    return (levels[:, None] > np.arange(4)).sum(axis=0).astype(np.int64)
 
 
 def _levels(world, positions, angles, pairs) -> tuple:
@@ -310,8 +314,7 @@ def world_counts(world) -> np.ndarray:
     world of circles, as record_levels): the levels alone, not each level on its own."""
     if world.n == 0 or not (world.shapes != CIRCLE).any():
         return np.full(4, NOT_COUNTED, np.int64)
-    levels = _levels(world, world.positions, world.angles, None)[1]
-    return (levels[:, None] > np.arange(4)).sum(axis=0).astype(np.int64)
+    return _counts(_levels(world, world.positions, world.angles, None)[1])
 
 
 def false_positive_rates(counts) -> np.ndarray:
