@@ -351,6 +351,12 @@ def run(argv=None) -> None:
     gc.freeze()
     status = main(argv)
     gc.freeze()
+    if status > 128:
+        # a signal ended the command (main said so, last): an object the signal cut short in its
+        # making (pyparsing's, building mathtext's grammar) may fail again in its finalizer as
+        # Python frees it at exit, which printed a traceback under the last line; it is the
+        # interrupt's, already said
+        sys.unraisablehook = lambda unraisable: None
     if ahead.computing():
         # a signal or an error ended the command while the engine's thread was in a block, maybe
         # compiling it: everything the command wrote is cleaned up by now, and Python's teardown
