@@ -112,3 +112,24 @@ from outer import outer
 print(outer(3), outer(2.25), sum(outer.stats.cache_misses.values()), sum(outer.stats.cache_hits.values()))
 """], capture_output=True, text=True, check=True).stdout.split()
     assert loaded == ["7.5", "6.0", "0", "2"]
+
+
+def test_a_kernel_that_returns_an_array_is_refused_as_it_compiles():
+    # compiled without numba's runtime, a kernel handing back an array gives its caller a reference
+    # nobody counted: the array was freed while still in use, and the process aborted much later
+    # (a ray query's grid walk, "malloc(): unaligned tcache chunk")
+    import numpy as np
+    import pytest
+    from numba import njit
+
+    import collisim  # noqa: F401  (the check is on once collisim is imported)
+    from collisim.core.compiling import compiled, kernel
+
+    def first_half(values):
+        return values[: values.shape[0] // 2]
+
+    values = np.arange(6.0)
+    assert compiled(first_half)(values).sum() == 3.0   # counted: fine
+    unsafe = kernel(first_half)
+    with pytest.raises(Exception, match="kernel first_half returns an array"):   # (numba wraps it in its TypingError)
+        njit(lambda values: unsafe(values).sum())(values)

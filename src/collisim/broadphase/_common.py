@@ -69,7 +69,7 @@ def check_positive_option(name: str, value) -> float:
     return float(value)
 
 
-@compiled
+@kernel
 def boxes_overlap(lo, hi, i, j):
     """Do boxes i and j overlap? lo, hi: (n, 2). Touching (equal edges) counts.
 
@@ -91,7 +91,7 @@ def gathered_boxes(lo, hi):
     return rows
 
 
-@compiled
+@kernel
 def copy_row(source, k, target, to):
     """target[to] = source[k] for (m, 4) box rows, as four scalar moves (numba's row
     assignment goes through its general broadcasting path, several times slower)."""
@@ -99,13 +99,13 @@ def copy_row(source, k, target, to):
         target[to, c] = source[k, c]
 
 
-@compiled
+@kernel
 def row_centre(rows, k, axis):
     """The centre on `axis` of box row k of gathered_boxes rows."""
     return 0.5 * rows[k, axis] + 0.5 * rows[k, axis + 2]
 
 
-@compiled
+@kernel
 def centre_spread(rows, axis):
     """Max minus min of the centres of box rows (m, 4) (gathered_boxes) on `axis`."""
     low, high = np.inf, -np.inf
@@ -116,14 +116,14 @@ def centre_spread(rows, axis):
     return high - low
 
 
-@compiled
+@kernel
 def widest_axis(rows):
     """The axis (0 or 1) along which the centres of box rows (m, 4), m >= 1, (gathered_boxes)
     spread widest (ties go to axis 0)."""
     return 1 if centre_spread(rows, 1) > centre_spread(rows, 0) else 0
 
 
-@compiled
+@kernel
 def select_smallest(values, end, k):
     """Reorder values[:end] in place so values[k] is what a sort would put there, the k
     values before it no larger and those after no smaller (C++'s nth_element), 0 <= k < end.
@@ -207,7 +207,7 @@ def put_pair(pairs, count, i, j):
     return count + 1
 
 
-@compiled
+@kernel
 def insertion_sort(values, first, end):
     """Sort values[first:end] in place; quickest for a few elements."""
     for k in range(first + 1, end):
@@ -339,7 +339,7 @@ def check_query_box(box_lo, box_hi) -> tuple[float, float, float, float]:
     return float(box_lo[0]), float(box_lo[1]), float(box_hi[0]), float(box_hi[1])
 
 
-@compiled
+@kernel
 def box_meets_query(lo, hi, i, qx0, qy0, qx1, qy1):
     """Does box i (lo, hi: (n, 2)) overlap the box [qx0, qx1] x [qy0, qy1]?
     Touching counts, as in boxes_overlap."""

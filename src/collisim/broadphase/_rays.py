@@ -26,7 +26,7 @@ import math
 import numpy as np
 
 from ..core.arrays import grown
-from ..core.compiling import compiled
+from ..core.compiling import compiled, kernel
 
 
 def check_ray(origin, direction, max_distance) -> tuple[float, float, float, float, float]:
@@ -60,13 +60,13 @@ def check_ray(origin, direction, max_distance) -> tuple[float, float, float, flo
     return float(origin[0]), float(origin[1]), dx / norm, dy / norm, max_distance
 
 
-@compiled
+@kernel
 def crossing(o, u, edge):
     """The t at which o + t * u (one axis, u != 0) reaches the line at `edge`."""
     return (edge - o) / u
 
 
-@compiled
+@kernel
 def clip_to_slab(enter, leave, o, u, edge_lo, edge_hi):
     """Narrow the ray's time interval [enter, leave] to the part inside the
     slab edge_lo <= coordinate <= edge_hi on one axis (o, u: the ray's
@@ -81,7 +81,7 @@ def clip_to_slab(enter, leave, o, u, edge_lo, edge_hi):
     return max(enter, min(t_a, t_b)), min(leave, max(t_a, t_b))
 
 
-@compiled
+@kernel
 def ray_box_entry(ox, oy, ux, uy, max_distance, x0, y0, x1, y1):
     """Where the ray (ox, oy) + t (ux, uy), t in [0, max_distance], enters the
     box [x0, x1] x [y0, y1]: that t (0 if the origin is in or on the box), or
@@ -114,7 +114,7 @@ def hits_in_run(lo, hi, boxes, first, end, ox, oy, ux, uy, max_distance, found, 
     return found, t_enter, count
 
 
-@compiled
+@kernel
 def farther_then_nearer(t_left, t_right):
     """The order in which to push two children on a traversal stack so the one the ray
     enters first is searched first: (farther, nearer) as 0 = left, 1 = right, each with

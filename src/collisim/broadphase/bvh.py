@@ -31,13 +31,13 @@ objects' boxes, so nothing below a node that is missed can be hit.
 
 import numpy as np
 
-from ..core.compiling import compiled
+from ..core.compiling import compiled, kernel
 from ._common import (BroadPhase, box_meets_query, boxes_overlap, check_boxes, check_int_option, copy_row,
                       gathered_boxes, new_pair_buffer, overlapping_in_run, push_pair, row_centre, select_smallest, widest_axis)
 from ._rays import farther_then_nearer, hits_in_run, new_hit_buffers, ray_box_entry
 
 
-@compiled
+@kernel
 def split_in_half(order, rows, first, count, axis, keys, moved, moved_rows):
     """Reorder the run [first, first + count) of order (box indices) and rows (their boxes,
     gathered_boxes) so the count // 2 boxes with the smallest centres on `axis` come first.
@@ -74,7 +74,7 @@ def split_in_half(order, rows, first, count, axis, keys, moved, moved_rows):
         copy_row(moved_rows, k, rows, first + k)
 
 
-@compiled
+@kernel
 def fit_boxes(rows, node_first, node_count, node_left, node_lo, node_hi):
     """Each node's tight box: a leaf's around its rows (gathered_boxes, in order's order),
     any other node's around its two children's (numbered after it, so done first)."""
@@ -212,7 +212,7 @@ def bvh_query(lo, hi, order, node_lo, node_hi, node_first, node_count, node_left
     return found[:count], visited, tested
 
 
-@compiled
+@kernel
 def node_entry(node_lo, node_hi, node, ox, oy, ux, uy, max_distance):
     """Where the ray enters node's box (inf if it misses)."""
     return ray_box_entry(ox, oy, ux, uy, max_distance,

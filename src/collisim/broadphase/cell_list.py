@@ -18,7 +18,7 @@ rebuilds its structure every step, which the linked lists are not made for.
 """
 import numpy as np
 
-from ..core.compiling import compiled
+from ..core.compiling import compiled, kernel
 from ._common import (BroadPhase, bounding_box, boxes_overlap, new_pair_buffer, overlapping_in_run, push_index,
                       push_pair)
 from ._rays import clip_to_slab, hits_in_run, new_hit_buffers
@@ -56,7 +56,7 @@ def cell_list_pairs(grid, lo, hi):
     return pairs[:count]
 
 
-@compiled
+@kernel
 def _cell_range(grid, x0, y0, x1, y1):
     """Column and row ranges (cx_lo, cx_hi, cy_lo, cy_hi), ends exclusive, of the cells under
     the box [x0, x1] × [y0, y1], one more on every side (a centre rounded onto a cell edge may

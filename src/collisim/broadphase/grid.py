@@ -35,7 +35,7 @@ filed in them (see :mod:`.grid_walk`).
 
 import numpy as np
 
-from ..core.compiling import compiled
+from ..core.compiling import compiled, kernel
 from ._common import (BroadPhase, bounding_box, box_meets_query, boxes_overlap, check_boxes,
                       check_positive_option, new_pair_buffer, push_index, push_pair)
 from .grid_walk import grid_raycast
@@ -71,7 +71,7 @@ def grid_layout(lo: np.ndarray, hi: np.ndarray, cell_size: float) -> tuple[np.nd
     return origin, (int(nx), int(ny))
 
 
-@compiled
+@kernel
 def cell_of(x, origin, cells_per_unit, n_cells):
     """Grid column (or row) holding coordinate x, clamped to 0 .. n_cells - 1.
 
@@ -81,7 +81,7 @@ def cell_of(x, origin, cells_per_unit, n_cells):
     return min(max(k, 0), n_cells - 1)
 
 
-@compiled
+@kernel
 def cell_range(lo, hi, i, origin, cells_per_unit, nx, ny):
     """First and last column and row of the cells box i overlaps."""
     return (cell_of(lo[i, 0], origin[0], cells_per_unit, nx),

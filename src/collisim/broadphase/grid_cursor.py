@@ -17,7 +17,7 @@ from collections import namedtuple
 
 import numpy as np
 
-from ..core.compiling import compiled
+from ..core.compiling import compiled, kernel
 from ._rays import ray_box_entry
 from .grid_walk import first_slab, slab_times, travel_axis
 
@@ -65,7 +65,7 @@ def begin_walk(bounds, ray, limit):
     return walk, (first_slab(x_ends, px, vx, start) - 1, first_slab(y_ends, py, vy, start), ny, -np.inf)
 
 
-@compiled
+@kernel
 def next_cell(walk, position, limit):
     """The next cell the ray meets no later than limit: (column, row, position), column and row
     in the grid's own numbering, or column -1 when the walk is over. limit may shrink between

@@ -124,7 +124,7 @@ def home_grid_pairs(lo, hi, origin, per_unit, nx, ny, count, start, ids, cell_lo
     return pairs[:found]
 
 
-@compiled
+@kernel
 def scan_cells(cell_lo, cell_hi, ids, start, count, a, n, column, origin, per_unit, nx, ny, pairs, found):
     """The overlapping pairs of boxes a, a + 1, ... < n (in cell order: home_grid_pairs) into pairs
     from row `found` on, until a box's tests might not fit. Returns (the next box, found).

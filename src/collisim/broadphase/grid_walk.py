@@ -30,7 +30,7 @@ max_distance or where it leaves the grid.
 
 import numpy as np
 
-from ..core.compiling import compiled
+from ..core.compiling import compiled, kernel
 from ._rays import crossing, hits_in_run, new_hit_buffers, ray_box_entry
 
 
@@ -45,7 +45,7 @@ def travel_axis(starts, ends, o, u):
     return -ends[::-1], -starts[::-1], -o, -u
 
 
-@compiled
+@kernel
 def slab_times(starts, ends, o, u, k):
     """(enter, leave): when the ray is inside slab k, starts[k] <= coordinate
     <= ends[k], on a travel axis (u >= 0). enter > leave if never."""
@@ -56,7 +56,7 @@ def slab_times(starts, ends, o, u, k):
     return np.inf, -np.inf
 
 
-@compiled
+@kernel
 def first_slab(ends, o, u, t):
     """The first slab (in travel order) the ray is still in at time t: the
     first k it leaves at or after t. ends (n,) on a travel axis; a binary

@@ -41,13 +41,13 @@ max_distance, nearer child first.
 import numpy as np
 
 from ..core.arrays import grown
-from ..core.compiling import compiled
+from ..core.compiling import compiled, kernel
 from ._common import (BroadPhase, bounding_box, boxes_overlap, check_boxes, check_int_option, copy_row, gathered_boxes,
                       new_pair_buffer, overlapping_in_run, push_pair, row_centre, select_smallest)
 from ._rays import farther_then_nearer, hits_in_run, new_hit_buffers, ray_box_entry
 
 
-@compiled
+@kernel
 def median_split_value(rows, axis, keys):
     """Split line on `axis` with the lower half of the centres of box rows (m, 4), m >= 2,
     (gathered_boxes) on its left: halfway between the two middle centres. keys: (>= m,)
@@ -64,7 +64,7 @@ def median_split_value(rows, axis, keys):
     return 0.5 * lower + 0.5 * keys[half]
 
 
-@compiled
+@kernel
 def side_counts(rows, axis, value):
     """How many box rows (m, 4) go left (min < value) and right (max >= value); straddlers
     go both ways."""
@@ -75,7 +75,7 @@ def side_counts(rows, axis, value):
     return left, right
 
 
-@compiled
+@kernel
 def choose_split(rows, depth, leaf_size, max_depth, keys):
     """Decide whether and how to split a node.
 
@@ -95,7 +95,7 @@ def choose_split(rows, depth, leaf_size, max_depth, keys):
     return -1, 0.0, m, m
 
 
-@compiled
+@kernel
 def split_region(region, axis, value):
     """Left and right halves of region (x0, y0, x1, y1), cut at `value` on `axis`."""
     x0, y0, x1, y1 = region

@@ -25,7 +25,7 @@ from collections import namedtuple
 
 import numpy as np
 
-from ..core.compiling import compiled
+from ..core.compiling import compiled, kernel
 from ._common import bounding_box
 from ._rays import farther_then_nearer, ray_box_entry
 from .bvh import BoundingVolumeHierarchy, build_bvh, node_entry
@@ -75,7 +75,7 @@ def bvh_rays(lo, hi) -> BVHRays:
 
 # ------------------------------------------------------------ the traversals
 
-@compiled
+@kernel
 def brute_ray_closest(state, bodies, ray, best):
     """Every body, tested exactly."""
     for i in range(state.n):
@@ -83,7 +83,7 @@ def brute_ray_closest(state, bodies, ray, best):
     return best, state.n, state.n
 
 
-@compiled
+@kernel
 def sweep_run(state, o, u):
     """Where the run of candidate boxes starts and ends (exclusive) in sweep order, and the
     step (+1 up the order, -1 down it). o, u: the ray's origin and direction on the sweep axis.
@@ -96,7 +96,7 @@ def sweep_run(state, o, u):
     return np.searchsorted(state.reach, o, side="left"), np.searchsorted(state.starts, o, side="right"), 1
 
 
-@compiled
+@kernel
 def sweep_ray_closest(state, bodies, ray, best):
     """The run of boxes the ray's span on the sweep axis crosses, stopping at the limit.
 
@@ -117,7 +117,7 @@ def sweep_ray_closest(state, bodies, ray, best):
     return best, visited, visited
 
 
-@compiled
+@kernel
 def grid_ray_closest(state, bodies, ray, best):
     """The cells along the ray, in order, until the next one starts beyond the limit."""
     ny = state.bounds.rows[0].shape[0]

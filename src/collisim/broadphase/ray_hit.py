@@ -20,7 +20,7 @@ from collections import namedtuple
 
 import numpy as np
 
-from ..core.compiling import compiled
+from ..core.compiling import compiled, kernel
 from ..narrowphase.ray import ray_body
 from ._rays import ray_box_entry
 
@@ -34,13 +34,13 @@ the coordinates the search handles (|ox| + |oy| + the largest world coordinate),
 skip_inside: a body whose solid holds the origin is not hit (the ray looks past it)."""
 
 
-@compiled
+@kernel
 def no_hit():
     """The best hit before anything is hit."""
     return np.inf, False, -1, -1, np.nan, np.nan
 
 
-@compiled
+@kernel
 def closer(a, b):
     """Does hit a come before hit b in the canonical order?"""
     if a[0] != b[0]:
@@ -52,7 +52,7 @@ def closer(a, b):
     return a[3] < b[3]
 
 
-@compiled
+@kernel
 def keep_closer(best, t, inside, kind, index, nx, ny, max_distance):
     """The hit (t, inside, kind, index, nx, ny) if it lies within max_distance (closed) and
     comes before best, else best."""
@@ -63,7 +63,7 @@ def keep_closer(best, t, inside, kind, index, nx, ny, max_distance):
     return best
 
 
-@compiled
+@kernel
 def search_limit(best, ray):
     """How far along the ray a node, cell or box may still hold a hit that beats best."""
     t = best[0]
@@ -93,7 +93,7 @@ def test_body(bodies, i, ray, best):
     return keep_closer(best, t, inside, BODY, i, nx, ny, ray.max_distance)
 
 
-@compiled
+@kernel
 def test_run(bodies, items, first, end, ray, best, tested):
     """test_body for the bodies items[first:end] (a leaf's or a cell's run); returns the best
     hit and `tested` plus the bodies tested."""

@@ -41,7 +41,7 @@ import math
 
 import numpy as np
 
-from ..core.compiling import compiled
+from ..core.compiling import compiled, kernel
 from ._common import BroadPhase, box_meets_query, check_boxes, new_pair_buffer, push_index, put_pair, reserve_pairs
 from ._rays import crossing, new_hit_buffers, push_hit, ray_box_entry
 
@@ -81,7 +81,7 @@ def sweep(lo, hi, order, axis):
     return pairs[:count]
 
 
-@compiled
+@kernel
 def repair_order(keys, order, max_shifts):
     """Insertion-sort `order` in place by (keys[i], i).
 
@@ -155,7 +155,7 @@ def sweep_query(lo, hi, order, axis, qx0, qy0, qx1, qy1):
     return found[:count], max(end - first, 0)
 
 
-@compiled
+@kernel
 def first_position(values, o, u, max_distance, within):
     """First p at which the ray reaches values[p] within max_distance
     (within=True) or only beyond it (within=False): crossing(o, u, values[p])

@@ -3,7 +3,7 @@
 one sort the kernels use."""
 import numpy as np
 
-from .compiling import compiled
+from .compiling import compiled, kernel
 
 
 @compiled
@@ -19,7 +19,7 @@ def grown(array, size, used=-1):
     return bigger
 
 
-@compiled
+@kernel
 def copy_rows(source, target, count):
     """target[:count] = source[:count], for C-contiguous arrays whose rows have the same shape,
     as a plain loop: numba compiles a slice assignment with the message it raises when the shapes
@@ -91,13 +91,13 @@ def _radix_order(bits):
     return order
 
 
-@compiled
+@kernel
 def _digit(bits, k, shift):
     """Byte shift / 8 of bits[k], as an int64 (numba would make a float of uint64 + int64)."""
     return np.int64((bits[k] >> shift) & np.uint64(255))
 
 
-@compiled
+@kernel
 def heap_sort(values, first, end):
     """Sort values[first:end] in place in O(m log m) for any input (heapsort: numba's own sort
     compiles a quicksort of its own, 0.6 s on a first run, for sorts that rarely run)."""
@@ -109,7 +109,7 @@ def heap_sort(values, first, end):
         _sift_down(values, first, 0, last)
 
 
-@compiled
+@kernel
 def _sift_down(values, first, root, size):
     """Move values[first + root] down the heap of `size` values at `first` until both its
     children are no larger."""

@@ -10,22 +10,25 @@ entry of its own (a copy of the function named NAME + FROM_PYTHON: numba keys a 
 the function's name and signature, not to how it was compiled, and an entry without the
 wrapper, called from Python, would crash the process).
 
-`kernel`: compiled(error_model="numpy", _nrt=False), for the functions run at
-every contact or event, which allocate nothing and return no array. Division by zero gives inf
-or nan as in NumPy, as everywhere in the engine, instead of raising. `_nrt=False` compiles them
-without numba's runtime: numba counts a reference to every array a compiled function is handed,
-and to every array inside a namedtuple it is handed (the engine's state travels as namedtuples
-of arrays), with an atomic increment on entry and a decrement on return. Compiled with the
-runtime, ccd's event loop ran 6.5 times slower (docs/benchmarks.md). It is numba's own jit
-option, passed as any other; it is not in numba's reference pages, which is one reason numba is
-pinned to the release range tested (pyproject.toml). Without the runtime numba refuses to
-compile an allocation; a kernel must not return an array it was handed either (nobody would
-count that reference), which review keeps.
+`kernel`: compiled(error_model="numpy", _nrt=False), for every function that allocates nothing
+and returns no array (most of them: whatever a step or an event does per body, pair, row or
+ray). Division by zero gives inf or nan as in NumPy, as everywhere in the engine, instead of
+raising. `_nrt=False` compiles them without numba's runtime: numba counts a reference to every
+array a compiled function is handed, and to every array inside a namedtuple it is handed (the
+engine's state travels as namedtuples of arrays), with an atomic increment on entry and a
+decrement on return, and a function that does that is seldom inlined by LLVM. Compiled with the
+runtime, ccd's event loop ran 6.5 times slower, and the discrete step's pair loop spent two
+thirds of its time calling (docs/benchmarks.md). It is numba's own jit option, passed as any
+other; it is not in numba's reference pages, which is one reason numba is pinned to the release
+range tested (pyproject.toml). Without the runtime numba refuses to compile an allocation, in
+the kernel or in anything it calls, which must then be `compiled`; and a kernel must not return
+an array (nobody would count that reference): `refuse_arrays_from_kernels` fails such a kernel
+as it compiles.
 
 `inlined`: a kernel that LLVM inlines into each compiled caller (numba's forceinline=True): for
-the event loop's functions that are handed the engine's state, several namedtuples of arrays,
-which a call hands over flattened into some two hundred scalar arguments. Each such function is
-short and called from one or two places.
+the short functions called per event, pair or row that are handed the engine's state (bodies,
+rows: namedtuples of arrays), which a call hands over flattened into some two hundred scalar
+arguments. Each such function is short and called from one or two places.
 
 `use_cache_folder`: the compiled kernels are kept in a folder named by a digest of every one of
 collisim's sources. numba keys a cache entry to the one file that defines the function, yet a
@@ -55,6 +58,7 @@ import types
 import numba
 from numba import njit
 from numba.core import event
+from numba.core import types as numba_types
 from numba.extending import overload
 
 try:
@@ -123,6 +127,35 @@ def constructor(function=None, **options):
 def kernel(function):
     """compiled(error_model="numpy", _nrt=False) (the module docstring)."""
     return compiled(function, error_model="numpy", _nrt=False)
+
+
+class _ArraysFromKernels(event.Listener):
+    """Refuses a kernel that returns an array, as it compiles: compiled without numba's runtime,
+    it would hand its caller a reference nobody counted, and the array would be freed while still
+    in use (the process aborts later, far from the cause, or reads freed memory)."""
+
+    def on_start(self, event_):
+        pass
+
+    def on_end(self, event_):
+        dispatcher = event_.data["dispatcher"]
+        if dispatcher.targetoptions.get("_nrt", True):
+            return
+        for result in dispatcher.overloads.values():
+            if _holds_array(result.signature.return_type):
+                raise TypeError(f"kernel {dispatcher.py_func.__qualname__} returns an array "
+                                f"({result.signature.return_type}): make it `compiled`")
+
+
+def _holds_array(numba_type) -> bool:
+    if isinstance(numba_type, numba_types.Array):
+        return True
+    return isinstance(numba_type, numba_types.BaseTuple) and any(_holds_array(t) for t in numba_type)
+
+
+def refuse_arrays_from_kernels() -> None:
+    """Check every kernel numba compiles from now on (_ArraysFromKernels)."""
+    event.register("numba:compile", _ArraysFromKernels())
 
 
 def inlined(function):

@@ -35,7 +35,7 @@ import numpy as np
 from ..core.arrays import copy_rows, stable_order
 from ..broadphase.registry import AUTO, choose, step_state
 from ..broadphase.step import candidate_pairs
-from ..core.compiling import compiled
+from ..core.compiling import compiled, kernel
 from ..core.geometry.polygon import place_polygons
 from ..core.kinds import CIRCLE, MAP, N_WALLS, PAIR, SEGMENT, SUPPORT, WALL, shapes_flag
 from .hierarchy import level_scratch, record_levels
@@ -103,14 +103,14 @@ def new_work(bodies) -> Work:
                 np.zeros(n, np.bool_), new_fast(n), level_scratch(bodies), np.zeros(5, np.int64))
 
 
-@compiled
+@kernel
 def _lap(phase_cycles, phase, since):
     now = cycles()
     phase_cycles[phase] += now - since
     return now
 
 
-@compiled
+@kernel
 def _margins_and_bounds(bodies, dt, margin, lo, hi):
     """Each body's speculative margin (n,) (response/rows.py: margins) and its bounding box
     (n, 2) lo, hi from its shape (circles: centre ± radius) grown by that margin, in one pass

@@ -38,7 +38,7 @@ import numpy as np
 from numba.core import types
 from numba.extending import overload
 
-from ..core.compiling import compiled, kernel
+from ..core.compiling import compiled, inlined, kernel
 from ..core.kinds import CIRCLE, POLYGON, WALL
 from .eventlog import append, with_room
 
@@ -64,7 +64,7 @@ def fast_note(frame: int) -> str:
             f"substeps")
 
 
-@kernel
+@inlined
 def _reach(b, dt, i):
     """How far any point of body i can move in a step of dt (response/rows.py's travel)."""
     speed = math.hypot(b.velocities[i, 0], b.velocities[i, 1]) + abs(b.angular_velocities[i]) * b.radii[i]
@@ -169,7 +169,7 @@ def _outpaced(polygons, bodies, margin, dt, asleep):
     return lambda polygons, bodies, margin, dt, asleep: pair_outpaced(bodies, margin, dt, asleep)
 
 
-@compiled
+@kernel
 def pair_outpaced(bodies, margin, dt, asleep):
     """outpaced: a body moving farther than its margin, against every other body."""
     b = bodies
@@ -186,7 +186,7 @@ def pair_outpaced(bodies, margin, dt, asleep):
     return False
 
 
-@kernel
+@inlined
 def _pair_outpaced(b, margin, dt, i, j):
     """Do bodies i and j close more in the step than their margins cover, and do their bounding
     circles come within reach during it (relative motion in a straight line, the relative
@@ -235,7 +235,7 @@ def _wall(box, wall):
     return axis, box[axis + 2 * (wall % 2)], 1.0 if wall % 2 == 0 else -1.0
 
 
-@compiled(error_model="numpy")
+@kernel
 def _advance(state, accel, t):
     """Free flight of state (x, y, vx, vy, θ, ω) for t, in place (integrate.py's step)."""
     half = 0.5 * t * t
@@ -246,7 +246,7 @@ def _advance(state, accel, t):
     state[4] += state[5] * t
 
 
-@compiled(error_model="numpy")
+@kernel
 def _earliest(state, accel, corners, box, longest, touch, slow):
     """(the next advance: the first root of every vertex's bound against every wall, the wall
     met (-1 if none: a vertex touching it and moving into it faster than `slow`), and the
@@ -284,7 +284,7 @@ def _point_rate(state, arm_x, arm_y, axis, inward):
     return inward * (state[2 + axis] + (-state[5] * arm_y if axis == 0 else state[5] * arm_x))
 
 
-@compiled(error_model="numpy")
+@kernel
 def _impact(state, mass, inertia, arm_x, arm_y, axis, inward, restitution, friction):
     """Newton's impulse with restitution, and Coulomb friction, at the point at arm on a wall;
     in place. Returns the normal impulse."""
@@ -310,7 +310,7 @@ def _kick(state, mass, inertia, dx, dy, turn, impulse):
     state[5] += impulse * turn / inertia
 
 
-@compiled(error_model="numpy")
+@kernel
 def _put_back(state, corners, box):
     """Every vertex back inside the walls, and the velocity into a wall touched removed; in place."""
     cos, sin = math.cos(state[4]), math.sin(state[4])
@@ -387,7 +387,7 @@ def _segment_reach(polygons, bodies, dt, margin, segments, out):
     return reach
 
 
-@compiled
+@kernel
 def note_outpaced(counts, frame):
     """Count a step outpaced (Fast.outpaced), keeping the frame of the first."""
     if counts[0] == 0:

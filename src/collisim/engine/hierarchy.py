@@ -250,7 +250,7 @@ def count_levels(bodies, pairs, vertices, counts):
                  np.empty((b.positions.shape[0], 10)), touching, counts)
 
 
-@compiled(error_model="numpy")
+@kernel
 def count_placed(bodies, pairs, vertices, boxes, volumes, touching, counts):
     """count_levels, given the polygons' world vertices (V, 2) at this state, their frame_boxes
     (n, 5), room for their volumes (n, 10), and whether each pair's shapes touch (k,)."""

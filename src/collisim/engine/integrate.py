@@ -6,10 +6,10 @@
     v += a·dt
     θ += ω·dt          (no torque acts between contacts)
 """
-from ..core.compiling import compiled
+from ..core.compiling import kernel
 
 
-@compiled
+@kernel
 def integrate(positions, velocities, accelerations, angles, angular_velocities, dt, keep):
     """Advance every body by dt in place, keeping the fraction `keep` of its velocities first.
 

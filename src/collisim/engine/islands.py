@@ -45,7 +45,7 @@ from collections import namedtuple
 
 import numpy as np
 
-from ..core.compiling import compiled, kernel
+from ..core.compiling import compiled, inlined, kernel
 from ..core.geometry.vector import length
 from ..core.kinds import CIRCLE, SUPPORT
 from ..narrowphase.manifold import body_pair_touch
@@ -94,7 +94,7 @@ def _root(parent, i):
     return i
 
 
-@compiled
+@kernel
 def _islands(parent, rows, count, n):
     """parent (n,) <- islands of the rows' pairs; each island's root is its smallest body."""
     for i in range(n):
@@ -106,7 +106,7 @@ def _islands(parent, rows, count, n):
                 parent[max(a, b)] = min(a, b)
 
 
-@kernel
+@inlined
 def _drift(sleep, bodies, i):
     """How far body i's velocity and its rim's speed have changed since it became still."""
     v, since = bodies.velocities, sleep.since
@@ -114,7 +114,7 @@ def _drift(sleep, bodies, i):
     return max(length(v[i, 0] - since[i, 0], v[i, 1] - since[i, 1]), turned)
 
 
-@compiled
+@kernel
 def _count_still(sleep, bodies, dt):
     """Add dt to the still time of each awake body slower than its rest speed (rim included)
     whose velocity has not drifted since it became still (see the module); start the still time
@@ -137,13 +137,13 @@ def _count_still(sleep, bodies, dt):
     return ready
 
 
-@kernel
+@inlined
 def _carried(rows, r, parent, least):
     """Is row r the support of a body on a wall or segment, in an island that falls asleep?"""
     return rows.j[r] < 0 and rows.impulse[r] > 0.0 and least[_root(parent, rows.i[r])] >= SLEEP_TIME
 
 
-@compiled
+@kernel
 def fall_asleep(sleep, bodies, rows, count, dt):
     """After a step whose contact rows (rows[:count]) were solved: count each body's still time,
     and put to sleep every island whose bodies have all been still for SLEEP_TIME, keeping its
@@ -200,7 +200,7 @@ def all_still(sleep, n):
     return True
 
 
-@compiled
+@kernel
 def _wake_island(sleep, bodies, island):
     """Wake every body of a sleeping island, and drop its carried support."""
     for i in range(bodies.positions.shape[0]):

@@ -15,7 +15,7 @@ import numpy as np
 from llvmlite import ir
 from numba.core import cgutils, types
 
-from ..core.compiling import compiled
+from ..core.compiling import kernel
 from numba.extending import intrinsic
 
 # The discrete step's phases, in the order they run.
@@ -32,7 +32,7 @@ def cycles(typingctx):
     return types.int64(), codegen
 
 
-@compiled
+@kernel
 def read_cycles():
     """The cycle counter, read from Python."""
     return cycles()

@@ -14,7 +14,7 @@ from numba.core import types
 from numba.extending import overload
 
 from ..core.arrays import copy_rows, grown
-from ..core.compiling import compiled, kernel
+from ..core.compiling import compiled, inlined, kernel
 from ..core.geometry.box import centre_range
 from ..core.geometry.vector import length
 from ..core.kinds import CIRCLE, MAP, N_WALLS, SEGMENT, WALL
@@ -101,7 +101,7 @@ def _may_turn(bodies, statics, dt, turns):
     return reach_statics
 
 
-@kernel
+@inlined
 def _travel(bodies, dt, i):
     """How far from its centre body i's bounding circle can reach within the step."""
     v, a = bodies.velocities, bodies.accelerations
@@ -284,7 +284,7 @@ def statics_scratch(n, m):
             np.zeros((n, 5), np.bool_))
 
 
-@compiled
+@kernel
 def mark_held(rows, count, held, the_map):
     """held (n, 5): the axes on which a wall row held each body this step, and whether a
     segment's row (HELD_BY_SEGMENT) or the map's (the static numbered the_map: HELD_BY_MAP) held
@@ -324,7 +324,7 @@ def statics_phase(bodies, statics, scratch, dt, log, now, frame_collisions):
     return log
 
 
-@compiled
+@kernel
 def _log_wall(log, now, positions, box, i, axis, side, impulse):
     """Log body i's bounce off wall 2·axis + side, at the wall beside the body."""
     on_wall, along = box[axis + 2 * side], positions[i, 1 - axis]

@@ -26,7 +26,7 @@ import math
 
 import numpy as np
 
-from ..core.compiling import compiled
+from ..core.compiling import compiled, kernel
 from ..core.geometry.capsule import ray_capsule
 from ..core.geometry.segment import closest_on_segment
 from ..core.kinds import CAPSULE, CIRCLE
@@ -37,7 +37,7 @@ NONE = (1.0, 0.0, 0, -np.inf, 0.0, 0.0, 0.0, 0.0, 0.0)
 TOUCH = 1e-12   # of the coordinates' size: past any rounding of a core moved to touch another
 
 
-@compiled(error_model="numpy")
+@kernel
 def capsule_radius(radii, vertices, start, i):
     """Capsule i's own radius: its bounding radius (half its core's length plus r) less half
     the length of its core placed in the world, vertices[start[i]:start[i] + 2]."""
@@ -55,14 +55,14 @@ def _grown(m, ra, rb):
             py1 + shift * ny)
 
 
-@compiled(error_model="numpy")
+@kernel
 def flipped(m):
     """Manifold m with its two shapes swapped: the normal reversed."""
     nx, ny, count, d0, px0, py0, d1, px1, py1 = m
     return -nx, -ny, count, d0, px0, py0, d1, px1, py1
 
 
-@compiled(error_model="numpy")
+@kernel
 def capsule_circle(ax, ay, bx, by, ra, cx, cy, rc, margin):
     """The capsule of core a-b and radius ra against the circle (c, rc): the circle against
     the core's point nearest its centre. Normal from the capsule to the circle (the core's left
@@ -82,7 +82,7 @@ def capsule_circle(ax, ay, bx, by, ra, cx, cy, rc, margin):
     return nx, ny, 1, depth, qx + reach * nx, qy + reach * ny, 0.0, 0.0, 0.0
 
 
-@compiled(error_model="numpy")
+@kernel
 def _clipped(p1x, p1y, ux, uy, length, nx, ny, p2x, p2y, q2x, q2y, ra, rb):
     """Segment p2-q2 clipped to the extent of the reference core p1 + [0, length]·u, whose
     normal n points toward it: its two ends as (depth, x, y) each, depth = ra + rb - (how far
@@ -106,7 +106,7 @@ def _clipped(p1x, p1y, ux, uy, length, nx, ny, p2x, p2y, q2x, q2y, ra, rb):
             hy + shift_h * ny)
 
 
-@compiled(error_model="numpy")
+@kernel
 def _face_separation(px, py, nx, ny, ax, ay, bx, by):
     """How far segment a-b lies in front of the line through p along the normal n or -n
     (whichever it lies more in front of), and that normal: the separating-axis test of a core's
@@ -116,7 +116,7 @@ def _face_separation(px, py, nx, ny, ax, ay, bx, by):
     return (ahead, nx, ny) if ahead > behind else (behind, -nx, -ny)
 
 
-@compiled(error_model="numpy")
+@kernel
 def capsule_capsule(p1x, p1y, q1x, q1y, ra, p2x, p2y, q2x, q2y, rb, margin):
     """The capsule of core p1-q1 and radius ra against the capsule of core p2-q2 and radius rb
     (rb = 0: a thin segment), normal from the first to the second (Box2D v3's
@@ -149,7 +149,7 @@ def capsule_capsule(p1x, p1y, q1x, q1y, ra, p2x, p2y, q2x, q2y, rb, margin):
     return nx, ny, 1, depth, ax + reach * nx, ay + reach * ny, 0.0, 0.0, 0.0
 
 
-@compiled(error_model="numpy")
+@kernel
 def _beside(p1x, p1y, q1x, q1y, u1x, u1y, len1, ra, p2x, p2y, q2x, q2y, u2x, u2y, len2, rb, margin):
     """Two capsules whose cores each overlap the other's extent along its axis: the reference
     face of least overlap (the separating-axis test over both cores' normals; a's on near ties,
@@ -169,7 +169,7 @@ def _beside(p1x, p1y, q1x, q1y, u1x, u1y, len1, ra, p2x, p2y, q2x, q2y, u2x, u2y
     return nx, ny, 2, d0, x0, y0, d1, x1, y1
 
 
-@compiled(error_model="numpy")
+@kernel
 def _closest_of_segments(p1x, p1y, d1x, d1y, p2x, p2y, d2x, d2y):
     """The closest points (ax, ay, bx, by) of segments p1 + [0, 1]·d1 and p2 + [0, 1]·d2."""
     rx, ry = p1x - p2x, p1y - p2y
@@ -198,7 +198,7 @@ def rounded_cores(a, b, ra, rb, margin):
     return _grown(m, ra, rb)
 
 
-@compiled(error_model="numpy")
+@kernel
 def capsule_halfplane(core, r, nx, ny, offset, margin):
     """The capsule of core (2, 2) and radius r against the solid half-plane {p : n·p <= offset}
     (n out of the solid; normal capsule to solid, -n): each cap centre nearer the line than r +
@@ -214,7 +214,7 @@ def capsule_halfplane(core, r, nx, ny, offset, margin):
             m[7] + shift * m[0], m[8] + shift * m[1])
 
 
-@compiled(error_model="numpy")
+@kernel
 def capsule_wall_manifold(radii, vertices, start, i, box, wall, margin):
     """The manifold of capsule body i and one box wall (normal into the wall)."""
     nx, ny, offset = box_wall_halfplane(box, wall)
@@ -222,7 +222,7 @@ def capsule_wall_manifold(radii, vertices, start, i, box, wall, margin):
     return capsule_halfplane(vertices[s:s + 2], capsule_radius(radii, vertices, start, i), nx, ny, offset, margin)
 
 
-@compiled(error_model="numpy")
+@kernel
 def capsule_segment_manifold(radii, vertices, start, i, segments, k, margin):
     """The manifold of capsule body i and segment k of segments (m, 4) (normal from the capsule
     toward the segment): the segment is a capsule of radius 0."""
@@ -271,7 +271,7 @@ def capsule_pair_touch(shapes, positions, radii, vertices, start, i, j):
     return m[2] > 0 and m[3] >= 0.0
 
 
-@compiled(error_model="numpy")
+@kernel
 def capsule_pair_swept_gap(shapes, positions, radii, vertices, start, i, j, dx, dy):
     """The least gap between bodies i and j, one of them a capsule, while j moves by (dx, dy)
     relative to i (manifold.pair_swept_gap): the cores' sweep (a core is a two-vertex polygon,
@@ -287,7 +287,7 @@ def capsule_pair_swept_gap(shapes, positions, radii, vertices, start, i, j, dx, 
     return swept_polygons(vertices[start[i]:start[i + 1]], vertices[start[j]:start[j + 1]], dx, dy) - ra - rb
 
 
-@compiled(error_model="numpy")
+@kernel
 def ray_capsule_body(radii, vertices, start, i, ox, oy, ux, uy):
     """narrowphase/ray.py's test of capsule body i: (t, nx, ny, inside)."""
     s = start[i]

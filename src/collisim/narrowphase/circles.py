@@ -1,11 +1,11 @@
 """Circle against circle: they touch when the distance between their centres is at most the
 sum of their radii. The contact normal is the line of centres from i to j."""
-from ..core.compiling import compiled
+from ..core.compiling import kernel
 
 from ..core.geometry.circle import line_of_centres
 
 
-@compiled
+@kernel
 def circles_touch(positions, radii, i, j):
     """Do circles i and j overlap or touch? Compared squared: no square root needed.
     positions: (n, 2); radii: (n,)."""
@@ -15,7 +15,7 @@ def circles_touch(positions, radii, i, j):
     return dx * dx + dy * dy <= reach * reach
 
 
-@compiled
+@kernel
 def circle_circle(positions, radii, i, j):
     """The contact of circles i and j as (nx, ny, depth, px, py): the unit normal from i to j,
     the overlap depth (negative when apart) and the contact point on i's surface."""

@@ -35,7 +35,7 @@ NONE = (1.0, 0.0, 0, -np.inf, 0.0, 0.0, 0.0, 0.0, 0.0)
 TOUCH = 1e-12   # of the coordinates' size: past any rounding of a shape moved to touch another
 
 
-@compiled
+@kernel
 def _given_back(m, gap):
     """Manifold m taken with the second shape moved `gap` closer, for the shapes where they are."""
     nx, ny, count, d0, px0, py0, d1, px1, py1 = m
@@ -44,7 +44,7 @@ def _given_back(m, gap):
             py1 + half * ny)
 
 
-@compiled
+@kernel
 def _flipped(m):
     """Manifold m with its two shapes swapped: the normal reversed."""
     nx, ny, count, d0, px0, py0, d1, px1, py1 = m
@@ -133,7 +133,7 @@ def shapes_touch(shapes, positions, radii, vertices, start, i, j, capsules):
     return placed_polygons_touch(vertices, start, i, j)   # no slices: they cost more than the test
 
 
-@compiled
+@kernel
 def polygon_wall_manifold(vertices, start, i, box, wall, margin):
     """The manifold of polygon body i and one box wall (normal into the wall), with speculative
     points up to `margin` from it."""
@@ -169,7 +169,7 @@ def polygon_segment_manifold(vertices, start, i, segments, k, margin):
     return _given_back(touching, back)
 
 
-@compiled
+@kernel
 def shape_wall_manifold(shapes, radii, vertices, start, i, box, wall, margin, capsules):
     """The manifold of body i, a polygon or a capsule, and one box wall (normal into the wall);
     none for a circle (the walls bounce circles themselves: engine/statics_paths.py). capsules

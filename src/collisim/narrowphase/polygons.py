@@ -45,12 +45,12 @@ from ..core.geometry.vector import length
 FACE_TOLERANCE = 1e-10
 
 
-@compiled(error_model="numpy")
+@kernel
 def _next(i, k):
     return i + 1 if i + 1 < k else 0
 
 
-@compiled(error_model="numpy")
+@kernel
 def _behind(x, y, ox, oy, ex, ey):
     """How far p = (x, y) lies behind the line through o along e, times |e|: the cross product
     e × (p − o), positive on the left of e — inside, for a counter-clockwise polygon's edge."""
@@ -96,7 +96,7 @@ def _separated(a, a0, a1, b, b0, b1):
     return False
 
 
-@compiled(error_model="numpy")
+@kernel
 def polygons_touch(a, b):
     """Do convex polygons a (ka, 2) and b (kb, 2) overlap or touch? The separating-axis test,
     stopping at the first edge that separates them. A thin segment is a 2-vertex polygon."""
@@ -104,7 +104,7 @@ def polygons_touch(a, b):
     return not _separated(a, 0, ka, b, 0, kb) and not _separated(b, 0, kb, a, 0, ka)
 
 
-@compiled(error_model="numpy")
+@kernel
 def placed_polygons_touch(vertices, start, i, j):
     """polygons_touch of polygons i and j among placed vertices (V, 2), polygon k's in
     vertices[start[k]:start[k + 1]], without slicing them out."""
@@ -113,7 +113,7 @@ def placed_polygons_touch(vertices, start, i, j):
             and not _separated(vertices, b0, b1, vertices, a0, a1))
 
 
-@compiled(error_model="numpy")
+@kernel
 def _closest_points(a, b):
     """(distance, ax, ay, bx, by): the closest points of two disjoint convex polygons. One of
     them is always a vertex, the other on an edge of the other polygon, so every
@@ -135,14 +135,14 @@ def _closest_points(a, b):
     return math.sqrt(best), ax, ay, bx, by
 
 
-@compiled(error_model="numpy")
+@kernel
 def _apart(ax, ay, bx, by, distance):
     """The manifold of two shapes `distance` apart, closest points a and b."""
     nx, ny = (bx - ax) / distance, (by - ay) / distance
     return nx, ny, 0, -distance, 0.0, 0.0, 0.0, 0.0, 0.0
 
 
-@compiled(error_model="numpy")
+@kernel
 def _corner(ax, ay, bx, by, distance):
     """The speculative manifold of two shapes `distance` apart whose closest points a and b are
     corners: one point, midway between them, along the line that joins them."""
@@ -166,7 +166,7 @@ def _facing(p, i, nx, ny):
     return (ey * nx - ex * ny) / length(ex, ey)
 
 
-@compiled(error_model="numpy")
+@kernel
 def _clip_behind(px, py, qx, qy, tx, ty, ox, oy):
     """Sutherland–Hodgman against one plane: the part of segment p–q with t·(x − o) <= 0.
     Returns (kept, px, py, qx, qy); kept is False when nothing is left."""
@@ -202,7 +202,7 @@ def _clip_to_face(ref, face, inc, edge):
     return kept, px, py, depth_p, qx, qy, depth_q
 
 
-@compiled(error_model="numpy")
+@kernel
 def _two_points(nx, ny, px, py, depth_p, qx, qy, depth_q, reach):
     """A manifold from two candidate points: those at depth >= -reach (0 for shapes that touch;
     a speculative manifold's margin), deepest first (one when both are the same point, as at a corner
@@ -214,7 +214,7 @@ def _two_points(nx, ny, px, py, depth_p, qx, qy, depth_q, reach):
     return nx, ny, 2, depth_p, px, py, depth_q, qx, qy
 
 
-@compiled(error_model="numpy")
+@kernel
 def polygon_polygon(a, b, beyond=np.inf, reach=0.0):
     """The manifold of convex polygons a (ka, 2) and b (kb, 2), world frame, counter-clockwise
     (see the module docstring). The reference face is a's unless one of b's is less deep by
@@ -226,7 +226,7 @@ def polygon_polygon(a, b, beyond=np.inf, reach=0.0):
     return _polygons_manifold(a, b, beyond, False, reach)
 
 
-@compiled(error_model="numpy")
+@kernel
 def speculative_polygons(a, b, margin):
     """polygon_polygon, except for polygons apart by less than `margin` (> 0) whose closest
     features are a face and a vertex (the vertex lies in front of the face, not beyond its
@@ -326,13 +326,13 @@ def _nearest_feature(a, cx, cy):
     return best, nx, ny
 
 
-@compiled(error_model="numpy")
+@kernel
 def polygon_circle_touch(a, cx, cy, r):
     """Does convex polygon a (k, 2) overlap or touch the circle (cx, cy, r)?"""
     return _nearest_feature(a, cx, cy)[0] <= r
 
 
-@compiled(error_model="numpy")
+@kernel
 def polygon_circle(a, cx, cy, r):
     """The manifold of convex polygon a (k, 2) and the circle (cx, cy, r): normal from the
     polygon towards the circle (along the vertex-to-centre line in a vertex region, the face
@@ -361,7 +361,7 @@ def polygon_segment(a, x0, y0, x1, y1, reach=0.0):
     return polygon_polygon(a, segment, np.inf, reach)
 
 
-@compiled(error_model="numpy")
+@kernel
 def polygon_halfplane(a, nx, ny, offset):
     """The manifold of convex polygon a (k, 2) and the solid half-plane {p : n·p <= offset},
     where (nx, ny) is the unit normal pointing out of the solid (into the free side). The
@@ -384,7 +384,7 @@ def polygon_halfplane(a, nx, ny, offset):
     return -nx, -ny, 2, deepest, px, py, runner_up, qx, qy
 
 
-@compiled(error_model="numpy")
+@kernel
 def box_wall_halfplane(box, wall):
     """The solid beyond one wall of the box as polygon_halfplane's (nx, ny, offset).
     box: (4,) xmin, ymin, xmax, ymax; wall: 0 left, 1 right, 2 bottom, 3 top (kinds.WALL_SIDES).

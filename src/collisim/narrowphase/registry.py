@@ -12,7 +12,7 @@ the overlap depth (negative when apart) and the contact point.
 """
 import numpy as np
 
-from ..core.compiling import compiled
+from ..core.compiling import compiled, kernel
 from ..core.kinds import CAPSULE, CIRCLE, POLYGON
 from .capsules import capsule_capsule, capsule_circle, capsule_halfplane, rounded_cores
 from .circles import circle_circle, circles_touch
@@ -39,7 +39,7 @@ STATIC_MANIFOLDS = {
 }
 
 
-@compiled
+@kernel
 def touching(shapes, positions, radii, i, j):
     """Do bodies i and j touch? shapes: (n,) kinds; positions: (n, 2); radii: (n,)."""
     if shapes[i] == CIRCLE and shapes[j] == CIRCLE:
@@ -47,7 +47,7 @@ def touching(shapes, positions, radii, i, j):
     return False
 
 
-@compiled
+@kernel
 def contact(shapes, positions, radii, i, j):
     """The contact (nx, ny, depth, px, py) of bodies i and j."""
     if shapes[i] == CIRCLE and shapes[j] == CIRCLE:

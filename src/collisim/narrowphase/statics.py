@@ -2,12 +2,12 @@
 import numpy as np
 
 from ..core.arrays import grown
-from ..core.compiling import compiled
+from ..core.compiling import compiled, kernel
 from ..core.geometry.segment import segment_contact
 from ..statics.segment_index import build_segment_index, segments_near
 
 
-@compiled
+@kernel
 def circle_segment(positions, radii, i, segments, s):
     """The contact of circle i with segment s as (nx, ny, depth, qx, qy): the unit normal from
     the segment's closest point q towards the centre, the overlap depth (negative when apart)

@@ -15,23 +15,23 @@ radius.
 """
 import math
 
-from ..core.compiling import compiled
+from ..core.compiling import kernel
 
 from ..core.geometry.segment import closest_on_segment
 
 
-@compiled(error_model="numpy")
+@kernel
 def _point_segment(px, py, x0, y0, x1, y1):
     qx, qy, _ = closest_on_segment(px, py, x0, y0, x1, y1)
     return math.hypot(px - qx, py - qy)
 
 
-@compiled(error_model="numpy")
+@kernel
 def _cross(ax, ay, bx, by):
     return ax * by - ay * bx
 
 
-@compiled(error_model="numpy")
+@kernel
 def segments_distance(ax, ay, bx, by, cx, cy, dx, dy):
     """The distance between segments a-b and c-d: 0 if they cross, else the least of each end's
     distance to the other segment."""
@@ -45,7 +45,7 @@ def segments_distance(ax, ay, bx, by, cx, cy, dx, dy):
                _point_segment(cx, cy, ax, ay, bx, by), _point_segment(dx, dy, ax, ay, bx, by))
 
 
-@compiled(error_model="numpy")
+@kernel
 def _paths_to_edges(p, q, sx, sy, best):
     """The least distance between the path of each vertex of p, from v to v + s, and each edge of
     q (both (k, 2), q counter-clockwise), or best if that is less."""
@@ -60,7 +60,7 @@ def _paths_to_edges(p, q, sx, sy, best):
     return best
 
 
-@compiled(error_model="numpy")
+@kernel
 def swept_polygons(a, b, dx, dy):
     """The least distance between convex polygons a and b (k, 2) (disjoint at the start) while b
     moves by (dx, dy) relative to a."""
@@ -68,7 +68,7 @@ def swept_polygons(a, b, dx, dy):
     return _paths_to_edges(a, b, -dx, -dy, best)   # a's vertices seen from b move by -d
 
 
-@compiled(error_model="numpy")
+@kernel
 def swept_polygon_circle(a, cx, cy, r, dx, dy):
     """The least gap between convex polygon a (k, 2) and the circle (cx, cy, r) (apart at the
     start) while the circle moves by (dx, dy) relative to a."""
@@ -79,7 +79,7 @@ def swept_polygon_circle(a, cx, cy, r, dx, dy):
     return best - r
 
 
-@compiled(error_model="numpy")
+@kernel
 def swept_circles(ox, oy, dx, dy, rsum):
     """The least gap between two circles whose centres are (ox, oy) apart (second less first) at
     the start while the second moves by (dx, dy) relative to the first; rsum their radii's sum."""

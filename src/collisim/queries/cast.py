@@ -11,12 +11,12 @@ import numpy as np
 
 from ..broadphase.ray_closest import body_ray_closest
 from ..broadphase.ray_hit import MAP, SEGMENT, WALL, Ray, keep_closer, no_hit
-from ..core.compiling import compiled
+from ..core.compiling import compiled, kernel
 from ..core.geometry.ray import ray_walls
 from .segment_rays import nearest_segment, segment_ray_closest
 
 
-@compiled
+@kernel
 def unit_directions(origins, directions, max_distances, units):
     """Fill units (m, 2) with the directions (m, 2) divided by their lengths, as check_ray
     does for one ray (components near the float64 limit halved first, which is exact, so the
@@ -47,7 +47,7 @@ def statics_closest(box, segments, map_segments, in_map, ray):
     return segment_ray_closest(map_segments, MAP, ray, best)
 
 
-@compiled
+@kernel
 def record(out, k, ray, best):
     """Write hit `best` of ray k into the output arrays (nothing hit: distance inf, point and
     normal nan, kind and index -1)."""

@@ -14,7 +14,7 @@ import numpy as np
 
 from ..broadphase.grid_cursor import begin_walk, cell_bounds_both_ways, next_cell
 from ..broadphase.ray_hit import keep_closer, search_limit
-from ..core.compiling import compiled
+from ..core.compiling import compiled, kernel
 from ..core.geometry.ray import ray_segment
 from ..core.geometry.segment import closest_on_segment
 from ..statics.segment_index import build_segment_index
@@ -57,7 +57,7 @@ def segment_ray_closest(grid, kind, ray, best):
             best = keep_closer(best, t, False, kind, s, normal_x, normal_y, ray.max_distance)
 
 
-@compiled
+@kernel
 def nearest_segment(segments, px, py):
     """The row of the segment (m, 4), m >= 1, closest to the point (the first of equals)."""
     nearest, nearest_distance = 0, np.inf

@@ -22,13 +22,13 @@ within 1.4 of each other), which the next step's sweeps take up as before.
 import numpy as np
 
 from ..core.arrays import stable_order_of_floats
-from ..core.compiling import compiled
+from ..core.compiling import compiled, inlined, kernel
 from .contact_row import inverses, kicked, load, relative, store
 
 HOLD_RATIO = 10.0   # an upper body this many times heavier than the lower one: the sweeps cannot carry it
 
 
-@compiled
+@kernel
 def pull(accelerations, i, j):
     """The larger acceleration of a row's bodies (a wall's is 0)."""
     largest = (accelerations[i, 0] ** 2 + accelerations[i, 1] ** 2) ** 0.5
@@ -37,7 +37,7 @@ def pull(accelerations, i, j):
     return largest
 
 
-@compiled
+@inlined
 def _height(rows, r, accelerations):
     """How high row r's point is against its bodies' pull (their summed accelerations): lower points
     sort first. 0 where nothing pulls."""
@@ -48,7 +48,7 @@ def _height(rows, r, accelerations):
     return -(rows.point[r, 0] * down_x + rows.point[r, 1] * down_y)
 
 
-@compiled
+@inlined
 def _below_is_j(rows, r, accelerations):
     """Does body j of pair row r lie below body i, along the bodies' summed pull?"""
     i, j = rows.i[r], rows.j[r]

@@ -11,10 +11,10 @@ gives v_i -= J/m_i · n and v_j += J/m_j · n. For e = 1 and two discs this is t
 elastic formula v_1' = v_1 - 2 m_2/(m_1+m_2) · <v_1 - v_2, x_1 - x_2>/|x_1 - x_2|² · (x_1 - x_2),
 with both new velocities computed from the pre-collision ones.
 """
-from ..core.compiling import compiled
+from ..core.compiling import kernel
 
 
-@compiled(error_model="numpy")
+@kernel
 def newton_impulse(approach, restitution, mass):
     """Newton's impulse J = -(1 + e)·u·m for an approach speed u < 0 along the normal and the
     pair's effective mass m = 1 / (1/m_i + 1/m_j)."""

@@ -31,7 +31,7 @@ stop the march again in the step; the push-out at the end puts the body back on 
 """
 import math
 
-from ..core.compiling import compiled
+from ..core.compiling import kernel
 
 from ..core.geometry.box import centre_range
 from .impulse import newton_impulse
@@ -48,7 +48,7 @@ SLIDE_COS = math.cos(math.radians(30.0))   # contacts this close in direction ar
 ALONG_COS = math.cos(math.radians(12.0))
 
 
-@compiled(error_model="numpy")
+@kernel
 def march(field, x, y, dx, dy, radius, sx, sy):
     """How far along the move (x, y) -> (x + dx, y + dy) a body of `radius` goes before it
     touches the map while heading into it: the fraction f in [0, 1] of the move at contact,
@@ -74,7 +74,7 @@ def march(field, x, y, dx, dy, radius, sx, sy):
         travelled = min(length, travelled + max((gap - slack) * SAFETY, floor))
 
 
-@compiled(error_model="numpy")
+@kernel
 def _outward(field, x, y, dx, dy, radius):
     """The map's unit normal for a body of radius at (x, y) (map_contact), or straight back along
     the move where the field has none (deep inside solid, or on a ridge)."""
@@ -85,7 +85,7 @@ def _outward(field, x, y, dx, dy, radius):
     return (-dx / length, -dy / length) if length > 0.0 else (0.0, 1.0)
 
 
-@compiled(error_model="numpy")
+@kernel
 def _contact_point(field, x, y, radius, nx, ny):
     """Where a body of radius centred at (x, y) touches the map: a radius along the field's own
     normal at the centre, which points at the nearest solid (the contact normal, taken across
@@ -97,7 +97,7 @@ def _contact_point(field, x, y, radius, nx, ny):
     return x - radius * fx, y - radius * fy
 
 
-@compiled(error_model="numpy")
+@kernel
 def push_out(field, positions, radius, i):
     """Move body i along the map's normal until it is its radius from the solid."""
     if map_sample(field, positions[i, 0], positions[i, 1])[0] >= radius + DEPTH_SLACK * field.cell:
@@ -110,7 +110,7 @@ def push_out(field, positions, radius, i):
         positions[i, 1] += (radius - d) * ny
 
 
-@compiled(error_model="numpy")
+@kernel
 def _box_fraction(box, held, i, x, y, dx, dy, radius):
     """(f, side): the fraction of the move at which body i first reaches a box wall while moving
     out through it (0 if already past it), and the wall's side (2 axis + high); (2.0, -1) if it
@@ -132,7 +132,7 @@ def _box_fraction(box, held, i, x, y, dx, dy, radius):
     return first, side
 
 
-@compiled(error_model="numpy")
+@kernel
 def _off_wall(velocities, masses, restitution, i, side):
     """Reflect body i's velocity off box wall `side` if it moves out through it: (the impulse,
     the kinetic energy per unit mass the restitution took); (0, 0) if it does not."""
@@ -144,7 +144,7 @@ def _off_wall(velocities, masses, restitution, i, side):
     return newton_impulse(-abs(v), restitution, masses[i]), 0.5 * (1.0 - restitution * restitution) * v * v
 
 
-@compiled(error_model="numpy")
+@kernel
 def bounce_off_map(field, box, held, start, positions, velocities, accelerations, radii, masses, restitution,
                    rest_speed, dt, i, wall_impulses):
     """Body i moved from start[i] to positions[i] this step (under its constant acceleration,
@@ -209,7 +209,7 @@ def bounce_off_map(field, box, held, start, positions, velocities, accelerations
     return first_impulse, cx, cy, bounces, wall_bounces
 
 
-@compiled(error_model="numpy")
+@kernel
 def glide_past_map(field, box, held, start, positions, velocities, accelerations, radii, masses, restitution,
                    rest_speed, dt, i, wall_impulses):
     """Body i, held against the map by the contact solver this step, moved from start[i] to
@@ -228,7 +228,7 @@ def glide_past_map(field, box, held, start, positions, velocities, accelerations
                           rest_speed, dt, i, wall_impulses)
 
 
-@compiled(error_model="numpy")
+@kernel
 def _keep_energy(velocities, i, kinetic):
     """Scale body i's speed so its kinetic energy per unit mass is `kinetic` (0 if negative).
 

@@ -9,7 +9,7 @@ turn) the pair keeps its rows.
 """
 import numpy as np
 
-from ..core.compiling import compiled, kernel
+from ..core.compiling import compiled, inlined, kernel
 from ..core.geometry.toi import time_to_pair
 from ..core.geometry.vector import length
 from ..core.kinds import CIRCLE
@@ -18,7 +18,7 @@ from ..narrowphase.manifold import body_pair_manifold, body_pair_swept_gap
 from .rows import APART, MEET_TOLERANCE, SLOP, reaches, record_manifold
 
 
-@compiled
+@kernel
 def _circles_at_contact(positions, velocities, radii, i, j, dt, m):
     """Two circles still apart that touch within the step: their manifold where they meet, with
     the normal at the time of contact t (uniform gravity cancels between them) and the gap closed
@@ -90,7 +90,7 @@ def pair_manifolds(bodies, vertices, margin, dt, pairs, found, k, in_pair, touch
     return _held_after_all(bodies, vertices, margin, dt, pairs, passing, count, found, k, in_pair, polygons)
 
 
-@compiled
+@inlined
 def _pair_manifold(bodies, vertices, polygons, i, j, reach, dt):
     """The manifold of bodies i and j within reach; two circles apart, at their time of contact."""
     b = bodies
@@ -123,7 +123,7 @@ def _held_after_all(bodies, vertices, margin, dt, pairs, passing, count, found, 
     return k
 
 
-@compiled
+@inlined
 def _may_meet(bodies, vertices, i, j, dt, gap, polygons, turns):
     """Can bodies i and j, `gap` apart where the step starts, meet within it? A speculative
     pair that cannot gets no rows: its normal joins the closest features where the step starts,

@@ -38,7 +38,7 @@ from collections import namedtuple
 
 import numpy as np
 
-from ..core.compiling import compiled, constructor, kernel
+from ..core.compiling import compiled, constructor, inlined, kernel
 from ..core.geometry.box import wall_geometry
 from ..core.geometry.vector import length
 from ..core.kinds import CIRCLE, N_WALLS
@@ -65,7 +65,7 @@ impulse (set by the solver); slop the overlap the row tolerates; arrives (k,) bo
 the solve completes, a perfectly inelastic contact with a static still apart (solver.collide)."""
 
 
-@kernel
+@inlined
 def was_impact(rows, r):
     """Did row r meet as an impact this step (an impulse in hit, or an arrival: solver.collide)?
     Impacts are logged as collisions and kept out of the next step's warm start."""
@@ -80,7 +80,7 @@ def new_rows(capacity):
                 reals(), reals(), reals(), reals(), reals(), reals(), np.zeros(k, np.bool_))
 
 
-@compiled
+@kernel
 def margins(velocities, angular_velocities, accelerations, radii, dt, out):
     """Each body's speculative margin (n,): how far any of its points can move in a step of dt,
     capped at its radius (a faster body may still tunnel: that is the discrete method's known
@@ -136,7 +136,7 @@ def reaches(m, reach):
     return m[2] > 0 and -m[3] < reach
 
 
-@compiled
+@kernel
 def wall_manifolds(bodies, vertices, margin, dt, box, rest_speed, in_pair, found, k, polygons, asleep):
     """Record after found[:k] the manifolds of bodies held by a box wall (see the module's rule).
     in_pair (n,) bool: bodies in a pair's manifold; polygons as for pair_manifolds. Returns the
@@ -172,7 +172,7 @@ def wall_manifolds(bodies, vertices, margin, dt, box, rest_speed, in_pair, found
     return k
 
 
-@compiled
+@kernel
 def circle_segment_manifolds(bodies, margin, segments, near, count, i, rest_speed, in_pair, found, k):
     """Record after found[:k] the manifolds of circle i with the segments near[:count] that hold
     it (_held_by_static): j = -1, wall = N_WALLS + the segment's number. Returns the new record
@@ -184,7 +184,7 @@ def circle_segment_manifolds(bodies, margin, segments, near, count, i, rest_spee
     return k
 
 
-@compiled
+@kernel
 def circle_map_manifold(bodies, margin, field, static, i, rest_speed, in_pair, found, k):
     """Record as found[k] the manifold of circle i with the collision map (field) if it holds it
     (_held_by_static): its gap is the map's distance at the centre less the radius, its normal
@@ -202,7 +202,7 @@ def circle_map_manifold(bodies, margin, field, static, i, rest_speed, in_pair, f
     return _held_by_static(bodies, margin, i, nx, ny, d - bodies.radii[i], static, rest_speed, in_pair, found, k)
 
 
-@kernel
+@inlined
 def _held_by_static(bodies, margin, i, nx, ny, gap, static, rest_speed, in_pair, found, k):
     """Record circle i's manifold with a static at `gap` along (nx, ny) (from the static to the
     centre) if the static holds it, by the rule of a circle and a wall (wall_manifolds): within
@@ -254,7 +254,7 @@ def _effective_mass(m_i, inertia_i, lever_i, m_j, inertia_j, lever_j, j):
     return 1.0 / k
 
 
-@compiled
+@kernel
 def rows_from(found, k, bodies, rows):
     """The rows of found[:k]'s manifolds: one a point closer than its record's reach, in record
     order, then point order. A row of two circles, or of a circle and a wall, meets on their line
@@ -294,7 +294,7 @@ def rows_from(found, k, bodies, rows):
     return count
 
 
-@compiled
+@kernel
 def beyond_segment(segments, k, x, y, reach):
     """Is segment k farther than reach from (x, y)? (Its box, grown by reach, misses the point.)"""
     x0, y0, x1, y1 = segments[k, 0], segments[k, 1], segments[k, 2], segments[k, 3]
@@ -302,7 +302,7 @@ def beyond_segment(segments, k, x, y, reach):
             or y > max(y0, y1) + reach)
 
 
-@compiled
+@kernel
 def near_segments(bodies, margin, segments):
     """How many (polygon, segment) pairs are near enough for segment_manifolds to look at."""
     b = bodies

@@ -42,7 +42,7 @@ import math
 
 import numpy as np
 
-from ..core.compiling import compiled
+from ..core.compiling import compiled, kernel
 from .contact_row import block, couplings, inverses, kicked, load, relative, store
 
 SWEEPS = 20        # a solve's sweeps at most: they run while each changes the impulses by less
@@ -58,14 +58,14 @@ DAMPING_RATIO = 10.0    # heavily over-damped: an overlap is taken out without b
 PUSH_OUT = 3.0          # radii a second: the fastest an overlap is pushed out
 
 
-@compiled
+@kernel
 def contact_hertz(h):
     """The contact spring's frequency for substeps of h: CONTACT_HERTZ, at most a quarter of the
     substep rate (a stiffer spring than the substeps can follow would ring)."""
     return min(CONTACT_HERTZ, 0.25 / h)
 
 
-@compiled
+@kernel
 def softness(hertz, zeta, h):
     """A damped spring of `hertz` as a soft constraint over a substep h: (bias rate, mass scale,
     impulse scale) (Box2D's b2MakeSoft)."""
@@ -171,7 +171,7 @@ def _row_springs(I, J, count, radii, slot, h):
     return si, sj, spring
 
 
-@compiled
+@kernel
 def _warm_start(si, sj, N, L, count, inverse, w, n_acc, t_acc):
     """Each row's impulses of the substep before, spread over this one (half into w)."""
     for r in range(count):
@@ -182,7 +182,7 @@ def _warm_start(si, sj, N, L, count, inverse, w, n_acc, t_acc):
             store(w[0], w[1], i, j, vel)
 
 
-@compiled
+@kernel
 def _goals(si, sj, N, L, gap, spring, d, count, h, biased, goals):
     """goals (count, 3) <- each row's target closing speed and its softness (target, mass scale,
     impulse scale) for the sweeps to come, from its gap now (the bodies' moves d since the rows
@@ -215,7 +215,7 @@ def _pair_couplings(si, sj, L, partner, count, inverse):
     return pairs
 
 
-@compiled
+@kernel
 def _sweeps(everything, cold, si, sj, N, L, goals, pairs, mass, mass_t, partner, inverse, vel, n_acc, t_acc,
             friction, biased, sweeps):
     """Sweeps (_sweep) over every row while they converge (at most `sweeps`), then over the rows
@@ -233,7 +233,7 @@ def _sweeps(everything, cold, si, sj, N, L, goals, pairs, mass, mass_t, partner,
             before = change
 
 
-@compiled
+@kernel
 def _sweep(which, si, sj, N, L, goals, pairs, mass, mass_t, partner, inverse, vel, n_acc, t_acc, friction, biased):
     """One sweep over the rows `which` (ascending) on the slots' velocities vel: biased,
     the substep's solve on the mean velocities (an impulse moves them by half); else the relax
@@ -287,7 +287,7 @@ def _sweep(which, si, sj, N, L, goals, pairs, mass, mass_t, partner, inverse, ve
     return change, largest
 
 
-@compiled
+@kernel
 def _friction(v, m, j, nx, ny, l0, l1, l2, l3, mass_t, half, bound, accumulated):
     """Coulomb friction at a row on the pair's loaded velocities v: the tangential impulse that
     stops its sliding, its total kept within ±bound. Returns (v, the new total)."""
@@ -296,7 +296,7 @@ def _friction(v, m, j, nx, ny, l0, l1, l2, l3, mass_t, half, bound, accumulated)
     return kicked(v, m, j, nx, ny, l0, l1, l2, l3, 0.0, half * (spread - accumulated)), spread
 
 
-@compiled
+@kernel
 def _as_push_and_shift(lin, ang, accelerations, keep, dt, i, q, v, d, push_lin, push_ang, shift_lin, shift_ang):
     """Body i's end velocity and move (slot q of v and d) as the contacts' share of the step: the
     integration gives keep·v0 + a·dt and keep·v0·dt + ½·a·dt², add_contact_motion adds 2·push to

@@ -40,7 +40,7 @@ Bodies' inertia comes as inverse_masses (n,) and inverse_inertias (n,): 1/m and 
 """
 import numpy as np
 
-from ..core.compiling import compiled
+from ..core.compiling import compiled, inlined, kernel
 from .contact_row import (block, couplings, friction_kick, inverses, kicked, load, load_mean, meets, relative,
                           store, together, zero_bodies)
 from .hold import hold_from_below
@@ -134,7 +134,7 @@ def collide(rows, count, lin, ang, accelerations, inverse_masses, inverse_inerti
             return
 
 
-@compiled
+@inlined
 def _impact(rows, r, v, accelerations, dt, rest_speed, restitution):
     """Row r's closing speed if it is an impact collide takes (contact_row.meets), else 0; marks
     the row arriving instead where it meets a static perfectly inelastic and still apart."""
@@ -147,7 +147,7 @@ def _impact(rows, r, v, accelerations, dt, rest_speed, restitution):
     return closing
 
 
-@compiled
+@kernel
 def _largest(impulses, count):
     largest = 0.0
     for r in range(count):
@@ -341,7 +341,7 @@ def come_to_rest(rows, count, lin, ang, inverse_masses, inverse_inertias, fricti
             break
 
 
-@compiled
+@kernel
 def add_contact_motion(bodies, rows, count, push, push_turn, shift, shift_turn, dt, moved):
     """The solver's share of the step (response/solver.py): the contact impulses, spread over the
     step, move a body by push·dt and change its velocity by 2·push (and turn it likewise); the
@@ -361,7 +361,7 @@ def add_contact_motion(bodies, rows, count, push, push_turn, shift, shift_turn, 
             moved[rows.j[r]] = False
 
 
-@compiled
+@inlined
 def _move_by_contacts(bodies, i, push, push_turn, shift, shift_turn, dt):
     b = bodies
     for axis in range(2):

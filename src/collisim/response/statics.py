@@ -23,7 +23,7 @@ diameter in one step can jump over a segment (tunnelling); method `ccd` cannot.
 """
 import math
 
-from ..core.compiling import compiled
+from ..core.compiling import kernel
 
 from ..core.geometry.box import centre_range
 from ..narrowphase.statics import circle_segment
@@ -37,7 +37,7 @@ MAX_BOUNCES = 10_000   # reflections in one step beyond which the speed is an er
 MAX_CROSSINGS = 1e12
 
 
-@compiled(error_model="numpy")
+@kernel
 def _reflect(overshoot, speed_in, pull, restitution):
     """Reflect a body that went `overshoot` past the contact plane moving at `speed_in`
     (> 0, toward the wall) while accelerated toward the wall by `pull`.
@@ -52,7 +52,7 @@ def _reflect(overshoot, speed_in, pull, restitution):
     return inside, speed_out, contact_speed + rebound
 
 
-@compiled(error_model="numpy")
+@kernel
 def _fold(x, v, low, high):
     """Free elastic flight between two walls, x past one of them, in O(1) however far: the
     reflections unfold into a straight line of period 2·(high - low). Returns (x, v, bounces
@@ -69,7 +69,7 @@ def _fold(x, v, low, high):
     return (x, v, half + (odd if not first_high else 0), half + (odd if first_high else 0))
 
 
-@compiled(error_model="numpy")
+@kernel
 def bounce_between_walls(positions, velocities, accelerations, radii, masses, box, restitution, i, axis):
     """Bring body i, whose centre is past a wall on `axis`, back inside, in place.
 
@@ -115,7 +115,7 @@ def bounce_between_walls(positions, velocities, accelerations, radii, masses, bo
     return bounces_low, bounces_high, impulse_low, impulse_high
 
 
-@compiled(error_model="numpy")
+@kernel
 def bounce_off_segment(positions, velocities, accelerations, radii, masses, segments, i, s, restitution):
     """Respond to body i touching segment s, in place, as a wall does (_reflect): the normal
     velocity reflected with restitution at the speed the body had where it met the segment, the
@@ -137,13 +137,13 @@ def bounce_off_segment(positions, velocities, accelerations, radii, masses, segm
     return masses[i] * dv, qx, qy
 
 
-@compiled(error_model="numpy")
+@kernel
 def _place_on_segment(positions, radii, i, nx, ny, qx, qy):
     """Put body i at exactly its radius from the segment's closest point q, along n."""
     positions[i, 0], positions[i, 1] = qx + radii[i] * nx, qy + radii[i] * ny
 
 
-@compiled(error_model="numpy")
+@kernel
 def put_on_segment(positions, radii, segments, i, s):
     """Put body i, which the contact solver held against segment s this step, back at exactly
     its radius from it where rounding left it inside (positions only: no bounce)."""

@@ -17,7 +17,7 @@ from collections import namedtuple
 import numpy as np
 
 from ..core.arrays import stable_order
-from ..core.compiling import compiled, constructor, kernel
+from ..core.compiling import compiled, constructor, inlined, kernel
 from ..core.kinds import N_WALLS
 from .rows import was_impact
 
@@ -31,7 +31,7 @@ def no_memory():
     return Memory(np.empty(0, np.int64), np.empty(0), np.empty(0))
 
 
-@compiled
+@inlined
 def row_key(rows, r, n, statics=N_WALLS):
     """A number naming row r's contact point among n bodies and `statics` walls and segments, the
     same from step to step: the pair (i, j) or body i and a wall or segment (rows.wall), and the
@@ -59,7 +59,7 @@ def remember(rows, count, n, statics=N_WALLS):
     return Memory(keys[:k][order], impulses[:k][order], frictions[:k][order])
 
 
-@compiled
+@kernel
 def recall(rows, count, memory, n, statics=N_WALLS):
     """Each row's starting impulse: what its contact had last step, 0 if it had none. The rows'
     keys mostly ascend as the memory's do: a row looks first among the few keys after the one

@@ -23,7 +23,7 @@ import math
 import cv2
 import numpy as np
 
-from ..core.compiling import compiled
+from ..core.compiling import kernel
 
 DEPTH_SLACK = 0.5   # pixels: how far a contact's depth may read from the field at its centre (map_contact)
 CORNER_COS = math.cos(math.radians(45.0))   # end normals further apart than this: a corner (map_contact)
@@ -51,13 +51,13 @@ def no_map_field() -> MapField:
     return make_field(np.full((1, 1), np.inf), 1.0, (0.0, 0.0))
 
 
-@compiled
+@kernel
 def has_map(field):
     """False for no_map_field() (a real map's distances are all finite)."""
     return math.isfinite(field.distance[0, 0])
 
 
-@compiled
+@kernel
 def _grid_position(x, x0, cell, n):
     """Where coordinate x falls among n samples along one axis: (k, f), the sample k at or below
     x and the fraction f in [0, 1] of the way to sample k + 1. Clamped to the samples (NaN goes
@@ -71,7 +71,7 @@ def _grid_position(x, x0, cell, n):
     return k, u - k
 
 
-@compiled
+@kernel
 def _central_difference(grid, i, j):
     """The grid's slope at sample (i, j): central differences, one-sided at the border."""
     ny, nx = grid.shape
@@ -80,7 +80,7 @@ def _central_difference(grid, i, j):
     return gx, gy
 
 
-@compiled
+@kernel
 def map_sample(field, x, y):
     """The signed distance d at world point (x, y) and the unit normal (nx, ny) toward free space.
 
@@ -111,7 +111,7 @@ def map_sample(field, x, y):
     return d, gx / length, gy / length
 
 
-@compiled
+@kernel
 def map_contact(field, x, y, radius):
     """What a body of `radius` centred at (x, y) meets: (depth, nx, ny), the distance from the
     map and the unit normal toward free space, both read across the body rather than at a point.
@@ -158,7 +158,7 @@ def map_contact(field, x, y, radius):
     return min(max(total / (2 * taps + 1), d - slack), d + slack), nx, ny
 
 
-@compiled
+@kernel
 def sample_points(field, points, distances, normals):
     """map_sample at every row of points (m, 2), into distances (m,) and normals (m, 2)."""
     for k in range(points.shape[0]):

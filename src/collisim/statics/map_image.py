@@ -15,7 +15,7 @@ import cv2
 import numpy as np
 
 from ..core.checks import number
-from ..core.compiling import compiled
+from ..core.compiling import compiled, kernel
 
 _CHANNELS = {"r": 0, "g": 1, "b": 2, "a": 3}   # of an RGB(A) image
 
@@ -151,7 +151,7 @@ def _shape_rows(name: str, value, columns: int) -> np.ndarray:
     return rows
 
 
-@compiled
+@kernel
 def _first_centre_at_or_above(value, origin, cell, n):
     """The first index k in 0..n whose pixel centre origin + (k + 0.5) * cell is >= value (found
     from the estimate, then stepped, so it agrees with the centre formula exactly)."""
@@ -195,7 +195,7 @@ def _fill_polygon(vertices, x0, y0, cell, solid):
                     solid[i, j] = True
 
 
-@compiled
+@kernel
 def _fill_circles(circles, x0, y0, cell, solid):
     """Mark the pixels of solid (rows from the bottom) whose centres lie within a circle
     (rows cx, cy, r): (x - cx)^2 + (y - cy)^2 <= r^2."""

@@ -42,7 +42,7 @@ from collections import namedtuple
 import numpy as np
 
 from ..core.arrays import heap_sort
-from ..core.compiling import compiled
+from ..core.compiling import compiled, kernel
 from ..core.geometry.segment import clip_step
 
 MAX_CELLS = 4_000_000  # 32 MB of cell_start; more cells than this buys nothing
@@ -63,7 +63,7 @@ reported once, without clearing anything between queries."""
 
 # ---------------------------------------------------------------- compiled kernels
 
-@compiled
+@kernel
 def cell_of(x, origin, inv_cell, n):
     """Column (or row) holding coordinate x, clamped to 0 .. n - 1.
 
@@ -78,7 +78,7 @@ def cell_of(x, origin, inv_cell, n):
     return int(k)
 
 
-@compiled(error_model="numpy")
+@kernel
 def _walk_segment(segments, s, x0, y0, cell, nx, ny, tol, cell_start, cell_segments, fill):
     """Visit the cells segment s meets (each once). Counting pass (fill False):
     cell_start[c] += 1. Fill pass: cell_start[c] -= 1 and store s at the new cell_start[c]."""
@@ -141,7 +141,7 @@ def _build_csr(segments, x0, y0, cell, nx, ny, tol):
     return cell_start, cell_segments
 
 
-@compiled
+@kernel
 def segments_near(index, lo_x, lo_y, hi_x, hi_y, out):
     """The segments registered in the cells the box [lo_x, hi_x] × [lo_y, hi_y] overlaps.
 

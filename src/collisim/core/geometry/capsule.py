@@ -9,7 +9,7 @@ import math
 
 import numpy as np
 
-from ..compiling import compiled
+from ..compiling import kernel
 from .ray import facing_perpendicular, nonnegative, ray_circle
 
 
@@ -26,7 +26,7 @@ def capsule_mass_properties(length: float, radius: float) -> tuple[float, float]
     return box_area + disc_area, box_second + disc_second
 
 
-@compiled(error_model="numpy")
+@kernel
 def ray_capsule(ox, oy, ux, uy, ax, ay, bx, by, r):
     """Where the ray o + t·u meets the capsule of core a-b and radius r: (t, nx, ny, inside),
     as core/geometry/ray.py's tests. The outline is the two cap circles and the two sides (the

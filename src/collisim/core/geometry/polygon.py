@@ -13,7 +13,7 @@ import math
 
 import numpy as np
 
-from ..compiling import compiled
+from ..compiling import compiled, kernel
 
 
 def _fan_moments(vertices, reference):
@@ -71,7 +71,7 @@ def place_polygons(body_vertices, vertex_start, positions, angles, out):
     return out
 
 
-@compiled(error_model="numpy")
+@kernel
 def polygon_bounds(vertices):
     """The axis-aligned box (xmin, ymin, xmax, ymax) around vertices (k, 2)."""
     xmin, ymin = vertices[0, 0], vertices[0, 1]
@@ -95,7 +95,7 @@ def edge_normals(vertices, out):
     return out
 
 
-@compiled(error_model="numpy")
+@kernel
 def bounding_radius(body_vertices):
     """The radius of the smallest circle about the body origin (the centroid) holding every
     vertex: max |v| over body_vertices (k, 2)."""
@@ -105,7 +105,7 @@ def bounding_radius(body_vertices):
     return reach
 
 
-@compiled(error_model="numpy")
+@kernel
 def _farthest_along(vertices, start, ux, uy):
     """Walk forward (counter-clockwise) from vertex `start` while the next vertex lies further
     along (ux, uy); the index where it stops. Along a convex polygon the projection rises to
@@ -120,7 +120,7 @@ def _farthest_along(vertices, start, ux, uy):
     return i
 
 
-@compiled(error_model="numpy")
+@kernel
 def oriented_box(body_vertices):
     """The minimum-area rectangle around a convex counter-clockwise polygon (k, 2):
     (cx, cy, half_w, half_h, angle) — its centre, its half extents along its own axes, and the

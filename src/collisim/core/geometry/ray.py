@@ -34,24 +34,24 @@ import math
 
 import numpy as np
 
-from ..compiling import compiled
+from ..compiling import kernel
 from .box import wall_geometry
 
 
-@compiled(error_model="numpy")
+@kernel
 def cross(ax, ay, bx, by):
     """The z component of a × b."""
     return ax * by - ay * bx
 
 
-@compiled(error_model="numpy")
+@kernel
 def nonnegative(t):
     """t clipped at 0 from below, as +0.0: a ray starting on a surface divides 0 by a negative
     number (-0.0), and rounding can leave a hit known to be ahead of the origin a hair behind."""
     return t if t > 0.0 else 0.0
 
 
-@compiled(error_model="numpy")
+@kernel
 def facing_perpendicular(nx, ny, ux, uy):
     """A unit normal (nx, ny) that faces away from u by rounding only (a grazing ray) turned
     into u's exact perpendicular on the same side: its dot product with u is then exactly 0
@@ -63,7 +63,7 @@ def facing_perpendicular(nx, ny, ux, uy):
     return uy, -ux
 
 
-@compiled(error_model="numpy")
+@kernel
 def ray_circle(ox, oy, ux, uy, cx, cy, r):
     """Where the ray o + t·u meets the circle (c, r): (t, nx, ny, inside).
 
@@ -92,7 +92,7 @@ def ray_circle(ox, oy, ux, uy, cx, cy, r):
     return t, nx, ny, False
 
 
-@compiled(error_model="numpy")
+@kernel
 def ray_polygon(ox, oy, ux, uy, vertices, first, end):
     """Where the ray o + t·u meets the convex polygon vertices[first:end] (counter-clockwise):
     (t, nx, ny, inside); a miss is t = inf, inside as for ray_circle."""
@@ -127,7 +127,7 @@ def ray_polygon(ox, oy, ux, uy, vertices, first, end):
     return nonnegative(lower), enter_nx, enter_ny, False
 
 
-@compiled(error_model="numpy")
+@kernel
 def ray_segment(ox, oy, ux, uy, x0, y0, x1, y1):
     """Where the ray o + t·u meets the thin segment (x0, y0)-(x1, y1): (t, nx, ny); t = inf
     for a miss."""
@@ -148,7 +148,7 @@ def ray_segment(ox, oy, ux, uy, x0, y0, x1, y1):
     return nonnegative(t), nx, ny
 
 
-@compiled(error_model="numpy")
+@kernel
 def ray_along_segment(ox, oy, ux, uy, x0, y0, x1, y1):
     """A segment parallel to the ray (or a single point): it is hit only if it lies on the
     ray's line, at its nearer end, with normal -u. Returns (t, nx, ny)."""
@@ -161,7 +161,7 @@ def ray_along_segment(ox, oy, ux, uy, x0, y0, x1, y1):
     return nonnegative(min(t0, t1)), -ux, -uy
 
 
-@compiled(error_model="numpy")
+@kernel
 def outside_wall(ox, oy, box):
     """The first wall (kinds.WALL_SIDES order) whose solid side holds the point, or -1 if it
     lies in the closed box. box: (4,) xmin, ymin, xmax, ymax."""
@@ -173,7 +173,7 @@ def outside_wall(ox, oy, box):
     return -1
 
 
-@compiled(error_model="numpy")
+@kernel
 def ray_walls(ox, oy, ux, uy, box):
     """Where the ray o + t·u from inside the box leaves it: (t, wall, nx, ny, inside).
 

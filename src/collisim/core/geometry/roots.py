@@ -25,14 +25,14 @@ call it without reference counting (engine/ccd/events.py).
 """
 import numpy as np
 
-from ..compiling import compiled
+from ..compiling import kernel
 
 # Enough steps to shrink any finite bracket to two adjacent doubles by bisection
 # alone; Newton usually converges in well under ten.
 MAX_ITERATIONS = 2200
 
 
-@compiled(error_model="numpy")
+@kernel
 def evaluate(coeffs, degree, t):
     """p(t) by Horner's rule. coeffs: 5 coefficients, lowest order first; degree <= 4."""
     value = 0.0
@@ -47,13 +47,13 @@ def evaluate(coeffs, degree, t):
     return value * t + coeffs[0]
 
 
-@compiled(error_model="numpy")
+@kernel
 def derivative(coeffs):
     """The coefficients of p' (one degree less; a constant's derivative is 0)."""
     return coeffs[1], 2.0 * coeffs[2], 3.0 * coeffs[3], 4.0 * coeffs[4], 0.0
 
 
-@compiled(error_model="numpy")
+@kernel
 def refine_root(coeffs, degree, lo, hi):
     """The root of p in [lo, hi], given that p(lo) and p(hi) have opposite signs
     (one may be 0). Safeguarded Newton."""
@@ -82,7 +82,7 @@ def refine_root(coeffs, degree, lo, hi):
     return t
 
 
-@compiled(error_model="numpy")
+@kernel
 def _nth(points, k):
     """points[k] for k in 0 .. 4, by constant indices only."""
     if k == 0:
@@ -96,7 +96,7 @@ def _nth(points, k):
     return points[4]
 
 
-@compiled(error_model="numpy")
+@kernel
 def _with(points, k, x):
     """points with points[k] = x, k in 0 .. 4."""
     a, b, c, d, e = points
@@ -111,7 +111,7 @@ def _with(points, k, x):
     return a, b, c, d, x
 
 
-@compiled(error_model="numpy")
+@kernel
 def split_at_sign_changes(coeffs, degree, breaks, count):
     """Refine the sorted breakpoints breaks[:count] by the roots of p on each piece where p
     is monotone: returns (new breaks, their count) = (lo, the roots found, hi), the pieces
@@ -126,7 +126,7 @@ def split_at_sign_changes(coeffs, degree, breaks, count):
     return _with(out, found, _nth(breaks, count - 1)), found + 1
 
 
-@compiled(error_model="numpy")
+@kernel
 def monotone_pieces(coeffs, lo, hi):
     """Breakpoints (5-tuple, count) lo = b[0] <= ... <= b[count - 1] = hi with the quartic p
     monotone on each piece.
@@ -142,7 +142,7 @@ def monotone_pieces(coeffs, lo, hi):
     return split_at_sign_changes(first, 3, breaks, count)
 
 
-@compiled(error_model="numpy")
+@kernel
 def first_down_crossing(coeffs, lo, hi):
     """Earliest t in (lo, hi] where the quartic p (coeffs: 5, lowest order first) goes from
     > 0 to <= 0, or inf if it never does."""

@@ -6,10 +6,10 @@ centre (at an end point this is what makes the cap round).
 """
 import math
 
-from ..compiling import compiled
+from ..compiling import kernel
 
 
-@compiled(error_model="numpy")
+@kernel
 def closest_on_segment(px, py, x0, y0, x1, y1):
     """The point of segment (x0, y0)-(x1, y1) closest to (px, py): (qx, qy, u), where
     u in [0, 1] is its fraction along the segment (0 or 1 at an end point)."""
@@ -19,7 +19,7 @@ def closest_on_segment(px, py, x0, y0, x1, y1):
     return x0 + u * ex, y0 + u * ey, u
 
 
-@compiled(error_model="numpy")
+@kernel
 def contact_normal(px, py, qx, qy, x0, y0, x1, y1):
     """Unit normal (nx, ny, distance) from the point q of a segment towards p. When p
     lies on the segment (distance 0) the segment's own normal is used."""
@@ -34,7 +34,7 @@ def contact_normal(px, py, qx, qy, x0, y0, x1, y1):
     return -ey / length, ex / length, 0.0
 
 
-@compiled(error_model="numpy")
+@kernel
 def segment_contact(px, py, segment):
     """Where a centre (px, py) meets segment (4,): (nx, ny, distance, qx, qy, u) — the unit
     normal from the closest point q towards the centre, their distance, q, and q's fraction
@@ -45,7 +45,7 @@ def segment_contact(px, py, segment):
     return nx, ny, distance, qx, qy, u
 
 
-@compiled(error_model="numpy")
+@kernel
 def clip_step(p, q, t0, t1):
     """One Liang–Barsky step: narrow a segment's parameter range [t0, t1] to the half-plane
     p·t <= q. Returns the new range, empty (t0 > t1) if nothing is left."""
@@ -57,7 +57,7 @@ def clip_step(p, q, t0, t1):
     return t0, min(t1, t)
 
 
-@compiled(error_model="numpy")
+@kernel
 def segment_meets_rect(x0, y0, x1, y1, left, bottom, right, top):
     """Does the segment (x0, y0)-(x1, y1) meet the closed rectangle? (Liang–Barsky)"""
     dx, dy = x1 - x0, y1 - y0

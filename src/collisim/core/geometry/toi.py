@@ -39,11 +39,11 @@ import math
 
 import numpy as np
 
-from ..compiling import compiled
+from ..compiling import kernel
 from .roots import first_down_crossing
 
 
-@compiled(error_model="numpy")
+@kernel
 def is_closing(rate, accel):
     """Does a gap with this rate and acceleration start shrinking now?
 
@@ -53,7 +53,7 @@ def is_closing(rate, accel):
     return rate < 0.0 or (rate == 0.0 and accel < 0.0)
 
 
-@compiled(error_model="numpy")
+@kernel
 def first_closing_time(gap, rate, accel):
     """First t > 0 where gap + rate t + ½ accel t² reaches 0 while decreasing, or inf.
 
@@ -75,7 +75,7 @@ def first_closing_time(gap, rate, accel):
     return t if t > 0.0 else np.inf
 
 
-@compiled(error_model="numpy")
+@kernel
 def time_to_wall(x, v, a, bound, side, t_max):
     """Time for a coordinate x(t) = x + v t + ½ a t² to reach `bound` from inside.
 
@@ -95,7 +95,7 @@ def time_to_wall(x, v, a, bound, side, t_max):
     return t if t <= t_max else np.inf
 
 
-@compiled(error_model="numpy")
+@kernel
 def time_to_pair(dx, dy, dvx, dvy, rsum, t_max):
     """Time for two circles to touch: |d + dv t| = rsum, without relative acceleration.
 
@@ -119,7 +119,7 @@ def time_to_pair(dx, dy, dvx, dvy, rsum, t_max):
     return t if t <= t_max else np.inf
 
 
-@compiled(error_model="numpy")
+@kernel
 def contact_quartic(dx, dy, vx, vy, ax, ay, dist):
     """The 5 coefficients of |d + v t + ½ a t²|² - dist², lowest order first (roots.py)."""
     return (dx * dx + dy * dy - dist * dist,
@@ -129,7 +129,7 @@ def contact_quartic(dx, dy, vx, vy, ax, ay, dist):
             0.25 * (ax * ax + ay * ay))
 
 
-@compiled(error_model="numpy")
+@kernel
 def time_to_point(dx, dy, vx, vy, ax, ay, dist, t_max):
     """Time for a point moving as d + v t + ½ a t² (relative to a fixed point) to come
     within `dist` of it while approaching, or inf.
@@ -164,7 +164,7 @@ def time_to_point(dx, dy, vx, vy, ax, ay, dist, t_max):
     return first_down_crossing(coeffs, 0.0, t_hi)
 
 
-@compiled(error_model="numpy")
+@kernel
 def _stays_beyond(s, s_rate, s_acc, bound, t_hi):
     """Does s + s_rate t + ½ s_acc t² stay above bound for every t in [0, t_hi]?"""
     lowest = min(s, s + (s_rate + 0.5 * s_acc * t_hi) * t_hi)
@@ -173,7 +173,7 @@ def _stays_beyond(s, s_rate, s_acc, bound, t_hi):
     return lowest > bound
 
 
-@compiled(error_model="numpy")
+@kernel
 def side_of_line(s, s_rate, s_acc):
     """+1.0 or -1.0: the side of a line a centre at signed distance s is on (or, when
     exactly on it, the side it comes from)."""
@@ -184,7 +184,7 @@ def side_of_line(s, s_rate, s_acc):
     return -math.copysign(1.0, s_acc) if s_acc != 0.0 else 1.0
 
 
-@compiled(error_model="numpy")
+@kernel
 def time_to_faces(px, py, vx, vy, ax, ay, r, x0, y0, x1, y1, t_max):
     """Circle against the interior of segment (x0, y0)-(x1, y1): (t, nx, ny) or (inf, 0, 0).
 
@@ -221,7 +221,7 @@ def time_to_faces(px, py, vx, vy, ax, ay, r, x0, y0, x1, y1, t_max):
     return t_best, side_best * nx, side_best * ny
 
 
-@compiled(error_model="numpy")
+@kernel
 def time_to_segment(px, py, vx, vy, ax, ay, r, x0, y0, x1, y1, t_max):
     """Earliest impact of a circle (centre p, velocity v, acceleration a, radius r)
     with the segment (x0, y0)-(x1, y1), which collides on both sides and has round

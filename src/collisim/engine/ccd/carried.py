@@ -91,7 +91,7 @@ def _fold(ux, uy, support, nx, ny, left, right):
     return _nearer(angle, support, nx, ny, 1.0, left), _nearer(angle, support, nx, ny, -1.0, right)
 
 
-@compiled(error_model="numpy")
+@kernel
 def _supports_of(bodies, grid, env, supports, i, ux, uy):
     """The supports of sleeper i nearest direction u on either side: two (angle, support,
     nx, ny), support a wall, N_WALLS + segment, or N_WALLS + segments + body (NONE: none)."""
@@ -142,7 +142,7 @@ def _deliver(log, bodies, env, supports, i, t, support, nx, ny, push):
         supports.load[support - bodies_from, 1] -= push * ny
 
 
-@compiled(error_model="numpy")
+@kernel
 def _choose(bodies, grid, env, supports, i):
     """Which supports carry sleeper i's present load, and along which normals: (a, ax, ay, b,
     bx, by): two enclosing it (Cramer's rule), or b = NONE for a (its nearest) alone, or a = NONE
@@ -166,7 +166,7 @@ def _choose(bodies, grid, env, supports, i):
     return best[1], best[2], best[3], NONE, 0.0, 0.0
 
 
-@compiled(error_model="numpy")
+@kernel
 def _split(log, bodies, env, supports, i, t, a, ax, ay, b, bx, by):
     """Pass sleeper i's load on to supports a and b (as _choose gives them); its load is then 0,
     or kept whole if it has no support."""
