@@ -155,3 +155,21 @@ def test_the_kernels_sort_is_numpys_stable_argsort(values, as_floats):
         keys = np.where(keys == 1, -0.0, keys / 3.0)
     order = stable_order_of_floats(keys) if as_floats else stable_order(keys)
     assert np.array_equal(order, np.argsort(keys, kind="stable"))
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.integers(1, 300), st.integers(1, 40), st.integers(0, 2 ** 31), st.booleans(), st.sampled_from([5, 10 ** 6]))
+def test_events_come_in_the_order_lexsort_gives(count, steps, seed, in_time_order, bodies):
+    # the stable order by (time, kind, i, j), ties kept in the order logged, whichever way it is found
+    rng = np.random.default_rng(seed)
+    time = rng.integers(0, steps, count) / 60.0
+    if in_time_order:   # as a block's log is: step after step
+        time = np.sort(time)
+    kind = rng.integers(0, 5, count).astype(np.int8)
+    i = rng.integers(0, bodies, count)
+    j = rng.integers(-1, bodies + 4, count)
+    events = collisim.Events(time, kind, i, j, rng.random(count), rng.random((count, 2)))
+    expected = events.take(np.lexsort((j, i, kind, time)))
+    got = collisim.Events.concatenate([events])
+    for name in ("time", "kind", "i", "j", "impulse", "point"):
+        assert np.array_equal(getattr(got, name), getattr(expected, name))

@@ -54,7 +54,7 @@ def _simulate(scene: Scene, progress, max_events: int, storage: str):
         return [_simulate(panel.scene, progress, max_events, storage) for panel in scene.panels]
     if scene.chapters:
         return [_simulate(chapter, progress, max_events, storage) for chapter in scene.chapters]
-    recorder, kept, cut = Recorder(scene.frames + 1, storage), 0, False
+    recorder, kept, cut = Recorder(scene.frames + 1, storage, scene.world.n), 0, False
     with ctrl_c_safe():
         for block in stream(scene, progress=progress, into=recorder.views, checked=True):
             room = max(max_events - kept, 0)
@@ -89,9 +89,9 @@ def stream(scene: Scene, block: int | None = None, progress=None, stepper=None, 
     starts with the t = 0 sample. Every block size gives the same bytes. `stepper`: one that
     METHODS built for this scene and that has not run yet (a benchmark reads its counters after).
     into(first, count): where the stepper is to write the positions and velocities of samples
-    first .. first + count - 1 (Recorder.views), or None for new arrays; asked for every block
-    but the first. checked: the scene has passed check_scene already (the pipeline checks every
-    panel's before it draws anything)."""
+    first .. first + count - 1 (Recorder.views), or None for new arrays; asked for every block,
+    the first's row 0 receiving the state at t = 0. checked: the scene has passed check_scene
+    already (the pipeline checks every panel's before it draws anything)."""
     if scene.world is None:
         raise ValueError(f"scene '{scene.name}' is made of panels or chapters; stream each one's scene")
     if not checked:
@@ -103,7 +103,7 @@ def stream(scene: Scene, block: int | None = None, progress=None, stepper=None, 
     while first <= total:
         count = min(block, total + 1 - first)
         if first == 0:  # the first block opens with the state at t = 0
-            frames, events = _first_block(world, stepper, count)
+            frames, events = _first_block(world, stepper, count, None if into is None else into(0, count))
         else:
             frames, events = stepper.run(count, into(first, count) if into is not None else None)
         require_finite(frames, first, scene)
@@ -145,15 +145,16 @@ def _initial(world) -> Frames:
                   np.zeros(1, np.bool_), world_counts(world)[None])
 
 
-def _first_block(world, stepper, count: int) -> tuple:
+def _first_block(world, stepper, count: int, into=None) -> tuple:
     """(Frames, Events) of the t = 0 sample followed by the first count - 1 frames. The stepper
     writes its positions and velocities straight after the initial state's row (no copy of the
-    block's largest arrays); the other arrays are joined, and those that repeat one row
-    (constant_angles: bodies that never turn) stay a repeated row."""
+    block's largest arrays), in `into` (positions, velocities) when given (Recorder.views: the
+    trajectory's own rows), else in new arrays; the other arrays are joined, and those that
+    repeat one row (constant_angles: bodies that never turn) stay a repeated row."""
     initial = _initial(world)
     if count == 1:
         return initial, Events.empty()
-    positions, velocities = np.empty((count, world.n, 2)), np.empty((count, world.n, 2))
+    positions, velocities = (np.empty((count, world.n, 2)), np.empty((count, world.n, 2))) if into is None else into
     positions[0], velocities[0] = initial.positions[0], initial.velocities[0]
     frames, events = stepper.run(count - 1, (positions[1:], velocities[1:]))
     joined = (_joined(a, b) for a, b in zip(initial[2:], frames[2:]))
@@ -190,10 +191,13 @@ class Recorder:
     bodies that never turn) stay one repeated row; state fields `storage` does not keep are
     read-only NaN views (see Trajectory.storage)."""
 
-    def __init__(self, samples: int, storage: str = "float64"):
+    def __init__(self, samples: int, storage: str = "float64", bodies: int | None = None):
         check_storage(storage)
         self.samples, self.storage = samples, storage
         self.arrays, self.filled, self.events, self.head = {}, 0, [], None
+        if bodies is not None and storage == "float64":   # the engine writes every block into these
+            for name in ("positions", "velocities"):
+                self.arrays[name] = np.empty((samples, bodies, 2))
 
     def add(self, block: Trajectory) -> None:
         dtype, kept = STORAGE[self.storage]
