@@ -422,3 +422,19 @@ def test_the_median_finders_fallback_sorts_a_run_as_numpy_does(values):
     np.testing.assert_array_equal(work[first:end], np.sort(values[first:end]))
     np.testing.assert_array_equal(work[:first], values[:first])
     np.testing.assert_array_equal(work[end:], values[end:])
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(2, 400), st.integers(0, 2000), st.integers(0, 2 ** 31))
+def test_the_step_puts_any_broad_phases_pairs_in_canonical_order(n, count, seed):
+    """Whatever order a broad phase finds its pairs in, the step treats them by (i, j): the order
+    numpy's lexicographic sort gives."""
+    from collisim.broadphase.step import sort_pairs
+
+    rng = np.random.default_rng(seed)
+    i, j = rng.integers(0, n, count), rng.integers(0, n, count)
+    keep = i < j
+    pairs = np.unique(np.column_stack([i[keep], j[keep]]), axis=0)   # each pair once, i < j
+    shuffled = pairs[rng.permutation(len(pairs))].astype(np.intp)
+    np.testing.assert_array_equal(sort_pairs(shuffled, n), pairs)
+    np.testing.assert_array_equal(sort_pairs(pairs.astype(np.intp), n), pairs)

@@ -10,7 +10,7 @@ choice is cached on its own.
 
 Every kernel returns pairs (k, 2) intp with i < j, each pair once, containing every pair of
 overlapping boxes — in the method's own order: the step puts them in canonical order itself
-(engine/discrete.py: sort_pairs, which leaves pairs already in order as they are), as
+(sort_pairs, which leaves pairs already in order as they are), as
 broadphase/__init__.py's functions do for their callers.
 """
 from collections import namedtuple
@@ -35,6 +35,7 @@ finest grid home-cell filing may use (grid_home.py's home_layout: 1 / cell width
 cells) and its scratch, made once (home_scratch): count, zero between steps, start, the n boxes in
 cell order (ids, lo, hi), room. Given the layout alone (the rest None), it serves drawings of the
 grid (render/structures.py), not the step."""
+I_COLUMN, J_COLUMN = np.int64(0), np.int64(1)   # (numpy integers: one compile for both)
 KDTreeState = namedtuple("KDTreeState", ["leaf_size", "max_depth"])
 BVHState = namedtuple("BVHState", ["leaf_size"])
 
@@ -56,6 +57,36 @@ def box_grid(box, radii) -> GridState:
 def sweep_state(world) -> SweepState:
     """Sweep and prune's state before its first sort: the identity order, no axis yet."""
     return SweepState(np.arange(world.n), np.full(1, -1, np.intp))
+
+
+@compiled
+def sort_pairs(pairs, n):
+    """Pairs (k, 2) with i < j, each once, in lexicographic (i, j) order: the canonical order
+    in which the response treats contacts, whichever broad phase found them. Pairs already in
+    that order (brute force finds them so) are returned as they are: sorting the polygons
+    pile's 133 pairs costs as much as finding them. Others are sorted by j, then stably by i,
+    each a counting sort over the n bodies: two passes over the pairs and two over the bodies,
+    where a radix sort of (i * n + j) took a pass for each of the key's bytes."""
+    for k in range(1, pairs.shape[0]):
+        if pairs[k, 0] < pairs[k - 1, 0] or (pairs[k, 0] == pairs[k - 1, 0] and pairs[k, 1] < pairs[k - 1, 1]):
+            return _counting_sort(_counting_sort(pairs, n, J_COLUMN), n, I_COLUMN)
+    return pairs
+
+
+@compiled
+def _counting_sort(pairs, n, column):
+    """The rows of pairs (k, 2) stably ordered by their value in `column` (0 .. n - 1)."""
+    start = np.zeros(n + 1, np.int64)
+    for p in range(pairs.shape[0]):
+        start[pairs[p, column] + 1] += 1
+    for value in range(n):
+        start[value + 1] += start[value]
+    out = np.empty_like(pairs)
+    for p in range(pairs.shape[0]):
+        row = start[pairs[p, column]]
+        start[pairs[p, column]] = row + 1
+        out[row, 0], out[row, 1] = pairs[p, 0], pairs[p, 1]
+    return out
 
 
 # Plain functions: registry.py hands the state's kernel to numba as candidate_pairs'

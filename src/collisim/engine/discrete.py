@@ -32,9 +32,9 @@ from collections import namedtuple
 
 import numpy as np
 
-from ..core.arrays import copy_rows, stable_order
+from ..core.arrays import copy_rows
 from ..broadphase.registry import AUTO, choose, step_state
-from ..broadphase.step import candidate_pairs
+from ..broadphase.step import candidate_pairs, sort_pairs
 from ..core.compiling import compiled, kernel
 from ..core.geometry.polygon import place_polygons
 from ..core.kinds import CIRCLE, MAP, N_WALLS, PAIR, SEGMENT, SUPPORT, WALL, shapes_flag
@@ -135,19 +135,6 @@ def bounding_boxes(world, positions, velocities, fps: float, substeps: int = 1):
                     world.vertex_start, world.body_vertices)
     _margins_and_bounds(bodies, 1.0 / fps / substeps, margin, lo, hi)
     return lo, hi
-
-
-@compiled
-def sort_pairs(pairs, n):
-    """Pairs (k, 2) with i < j, each once, in lexicographic (i, j) order: the canonical order
-    in which the response treats contacts, whichever broad phase found them. Pairs already in
-    that order (brute force finds them so) are returned as they are: sorting the polygons
-    pile's 133 pairs costs as much as finding them."""
-    keys = pairs[:, 0] * n + pairs[:, 1]
-    for k in range(1, keys.shape[0]):
-        if keys[k] < keys[k - 1]:
-            return pairs[stable_order(keys)]
-    return pairs
 
 
 @compiled
