@@ -65,11 +65,12 @@ def home_layout(width: float, height: float, cell: float, most_radius: float, n:
 
 def home_scratch(nx: int, ny: int, n: int) -> tuple:
     """home_grid_pairs' scratch for n boxes in an nx x ny grid (or one of fewer, wider cells):
-    count, start for its (nx + 1) * (ny + 2) cells, zero and empty; ids, cell_lo, cell_hi; room.
-    int32 counts: half the memory traffic of the running totals (n < 2^31)."""
+    count, start for its (nx + 1) * (ny + 2) cells, zero and empty; ids, cell_lo, cell_hi; room;
+    homes and cell_homes (n,), each box's home cell by index and in cell order. int32 counts and
+    cells: half the memory traffic (n < 2^31, and about 4n cells)."""
     cells = (nx + 1) * (ny + 2)
     return (np.zeros(cells, np.int32), np.empty(cells + 1, np.int32), np.empty(n, np.intp), np.empty((n, 2)),
-            np.empty((n, 2)), np.full(1, n // 8, np.intp))
+            np.empty((n, 2)), np.full(1, n // 8, np.intp), np.empty(n, np.int32), np.empty(n, np.int32))
 
 
 @kernel
@@ -81,7 +82,7 @@ def home_cell(lo, i, origin, per_unit, nx, ny):
 
 
 @compiled
-def home_grid_pairs(lo, hi, origin, per_unit, nx, ny, count, start, ids, cell_lo, cell_hi, room):
+def home_grid_pairs(lo, hi, origin, per_unit, nx, ny, count, start, ids, cell_lo, cell_hi, room, homes, cell_homes):
     """Every pair of overlapping boxes lo, hi (n, 2) once, as original indices (k, 2), i < j,
     in cell order, for cells of 1 / per_unit (home_cells_per_unit) in an nx x ny grid.
 
@@ -91,14 +92,17 @@ def home_grid_pairs(lo, hi, origin, per_unit, nx, ny, count, start, ids, cell_lo
 
     Scratch kept between calls (home_scratch): count, zero on entry and on return, and start;
     ids and cell_lo, cell_hi for the boxes in cell order; room (1,): the pair buffer's size to
-    start from (the last call's pair count, plus some).
+    start from (the last call's pair count, plus some); homes and cell_homes, each box's home
+    cell by index and in cell order (worked out once a call: working it out again in the
+    filling and in the scan was a quarter of the grid's time at a thousand boxes).
     """
     n = lo.shape[0]
     column = ny + 2
     cells = (nx + 1) * column                       # as home_scratch counts them
     # 1. How many boxes each cell is home to.
     for i in range(n):
-        count[home_cell(lo, i, origin, per_unit, nx, ny)] += 1
+        homes[i] = home_cell(lo, i, origin, per_unit, nx, ny)
+        count[homes[i]] += 1
     # 2. Running totals: start[c] is where cell c's run ends (the one pass over every cell).
     total = 0
     for c in range(cells):
@@ -108,16 +112,15 @@ def home_grid_pairs(lo, hi, origin, per_unit, nx, ny, count, start, ids, cell_lo
     # 3. Fill each run from its end, boxes last to first, copying the boxes along: every
     #    start[c] steps back to its run's start and each run is in increasing index order.
     for i in range(n - 1, -1, -1):
-        c = home_cell(lo, i, origin, per_unit, nx, ny)
+        c = homes[i]
         k = start[c] - 1
         start[c] = k
-        ids[k] = i
+        ids[k], cell_homes[k] = i, c
         cell_lo[k, 0], cell_lo[k, 1], cell_hi[k, 0], cell_hi[k, 1] = lo[i, 0], lo[i, 1], hi[i, 0], hi[i, 1]
     # 4. The pairs, into a buffer grown between scans when a box's tests might overflow it.
     pairs, found, a = np.empty((max(16, room[0]), 2), np.intp), np.intp(0), np.intp(0)
     while a < n:
-        a, found = scan_cells(cell_lo, cell_hi, ids, start, count, a, n, column, origin, per_unit, nx, ny, pairs,
-                              found)
+        a, found = scan_cells(cell_lo, cell_hi, ids, cell_homes, start, count, a, n, column, pairs, found)
         if a < n:
             pairs = grown(pairs, found + pairs.shape[0] + n)   # room for any box's tests
     room[0] = found + found // 4 + 16
@@ -125,7 +128,7 @@ def home_grid_pairs(lo, hi, origin, per_unit, nx, ny, count, start, ids, cell_lo
 
 
 @kernel
-def scan_cells(cell_lo, cell_hi, ids, start, count, a, n, column, origin, per_unit, nx, ny, pairs, found):
+def scan_cells(cell_lo, cell_hi, ids, cell_homes, start, count, a, n, column, pairs, found):
     """The overlapping pairs of boxes a, a + 1, ... < n (in cell order: home_grid_pairs) into pairs
     from row `found` on, until a box's tests might not fit. Returns (the next box, found).
 
@@ -135,7 +138,7 @@ def scan_cells(cell_lo, cell_hi, ids, start, count, a, n, column, origin, per_un
     only a hit advances `found` (no branch to mispredict: most tests miss); the buffer is not
     grown in here, which would make numba count references to it on every box."""
     while a < n:
-        c = home_cell(cell_lo, a, origin, per_unit, nx, ny)
+        c = cell_homes[a]
         own = start[c + 2] - a - 1
         east_first, east = start[c + column - 1], start[c + column + 2] - start[c + column - 1]
         if found + own + east > pairs.shape[0]:

@@ -29,12 +29,14 @@ from .sweep_prune import repair_order, sweep
 BruteState = namedtuple("BruteState", ["n"])
 SweepState = namedtuple("SweepState", ["order", "axis"])        # (n,) intp; (1,) intp, -1 before the first sort
 GridState = namedtuple("GridState", ["origin", "cells_per_unit", "nx", "ny", "finest", "home_nx", "home_ny",
-                                     "count", "start", "ids", "lo", "hi", "room"], defaults=(None,) * 9)
+                                     "count", "start", "ids", "lo", "hi", "room", "homes", "cell_homes"],
+                       defaults=(None,) * 11)
 GridState.__doc__ = """A fixed grid over the world's box: origin (2,), 1 / cell width, nx x ny cells; the
 finest grid home-cell filing may use (grid_home.py's home_layout: 1 / cell width, home_nx x home_ny
 cells) and its scratch, made once (home_scratch): count, zero between steps, start, the n boxes in
-cell order (ids, lo, hi), room. Given the layout alone (the rest None), it serves drawings of the
-grid (render/structures.py), not the step."""
+cell order (ids, lo, hi), room, each box's home cell (homes by index, cell_homes in cell order).
+Given the layout alone (the rest None), it serves drawings of the grid (render/structures.py),
+not the step."""
 I_COLUMN, J_COLUMN = np.int64(0), np.int64(1)   # (numpy integers: one compile for both)
 KDTreeState = namedtuple("KDTreeState", ["leaf_size", "max_depth"])
 BVHState = namedtuple("BVHState", ["leaf_size"])
@@ -134,7 +136,7 @@ def grid_step_pairs(state, lo, hi):
         scale = per_unit / state.finest   # at most 1: no more cells than the scratch's grid
         nx, ny = min(state.home_nx, int(state.home_nx * scale) + 1), min(state.home_ny, int(state.home_ny * scale) + 1)
         return home_grid_pairs(lo, hi, state.origin, per_unit, nx, ny, state.count, state.start, state.ids,
-                               state.lo, state.hi, state.room)
+                               state.lo, state.hi, state.room, state.homes, state.cell_homes)
     start, boxes = bin_boxes(lo, hi, state.origin, state.cells_per_unit, state.nx, state.ny)
     return grid_pairs(lo, hi, state.origin, state.cells_per_unit, state.nx, state.ny, start, boxes)
 
