@@ -64,6 +64,10 @@ STEP_CASES = {
     "boxes much wider than the cells": circles(np.random.default_rng(17).uniform(0, 100, (500, 2)),
                                                np.r_[30.0, np.ones(499)]),
     "zero-size boxes": (np.full((30, 2), 2.0), np.full((30, 2), 2.0)),
+    # every box touches its eight neighbours edge to edge or corner to corner, which a box that
+    # reaches the next column or row by its very edge alone must still find
+    "a lattice of boxes edge to edge": tuple(np.stack(np.meshgrid(np.arange(30.0), np.arange(20.0)), -1).reshape(-1, 2)
+                                             + offset for offset in (0.0, 1.0)),
     "two boxes": circles([[0, 0], [1, 0]], 1.0),
 }
 
@@ -93,3 +97,24 @@ def test_step_grid_runs_a_world_of_fewer_than_two_bodies(n):
     world = collisim.World(positions=np.full((n, 2), 5.0), velocities=np.ones((n, 2)))
     trajectory = collisim.simulate(collisim.Scene(world=world, seconds=0.1, broadphase="grid"))
     assert trajectory.frames == 6 and not trajectory.candidates.any()
+
+
+@pytest.mark.parametrize("axis", [0, 1])
+def test_step_grid_finds_a_box_that_reaches_the_next_cell_by_its_edge_alone(axis):
+    """Box A's far edge lies exactly on the boundary of the next column (row), where box B starts:
+    touching counts, so the scan must look past A's own cell for it."""
+    from collisim.broadphase.grid_home import home_cells_per_unit
+
+    def boxes(x):   # A, B along the axis; two unit boxes far off set the cells' width and the grid
+        lo = np.array([[x - 0.75, 0.25], [x, 0.25], [0.0, 10.0], [3.0, 10.0]])
+        hi = np.array([[x, 0.75], [x + 0.75, 0.75], [1.0, 11.0], [4.0, 11.0]])
+        return (lo, hi) if axis == 0 else (lo[:, ::-1].copy(), hi[:, ::-1].copy())
+
+    state = step_grid(*boxes(1.0))
+    per_unit = home_cells_per_unit(*boxes(1.0), state.finest, state.cells_per_unit)
+    x = 1.0 / per_unit
+    while x * per_unit != 1.0:   # the float whose cell coordinate is exactly the next column's
+        x = np.nextafter(x, 2.0 if x * per_unit < 1.0 else 0.0)
+    lo, hi = boxes(x)
+    assert_step_grid_matches_reference(lo, hi, step_grid(lo, hi))
+    assert len(reference_pairs(lo, hi)) == 1

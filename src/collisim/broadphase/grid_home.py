@@ -18,6 +18,11 @@ phase on boxes of much the same size, every step, so here:
   the cell itself followed by its north neighbour, and the three cells of the east column (with
   an empty cell padding each column's ends and an empty column after the last, no edge needs a
   test).
+* a box meets the east column only if its right edge lies in a later column than its home (every
+  box filed there starts in that column), and the north row (north, north-east) only if its top
+  edge lies in a later row: most boxes, much narrower than a cell, reach neither, and their scan
+  skips those cells instead of testing every box in them (each test a miss). The filing works
+  out both with the home cell (home_and_reach), so the scan reads no more than it did.
 * the arrays are kept between steps (GridState): the counts are zero between calls because the
   pair scan, which visits exactly the occupied cells, resets each one it visits. One pass over
   all cells remains, the running totals; nothing is allocated but the pairs.
@@ -37,6 +42,8 @@ FITS = 1.0 - 2.0 ** -20   # widest box / cell width at most this: the home-cell 
                           # of a few units in the last place of the column number, ~1e-9 at 10^7
                           # columns)
 WIDEST_CELL = 2.0         # cells wider than this many of the grid's own: file boxes in grid.py's way
+MOST_CELLS = 2 ** 29      # home cells numbered below this: a cell times 4 plus a box's reach fits in int32
+EAST, NORTH = 1, 2        # home_and_reach's bits
 
 
 @compiled(fastmath={"nnan", "nsz", "reassoc"})
@@ -66,19 +73,29 @@ def home_layout(width: float, height: float, cell: float, most_radius: float, n:
 def home_scratch(nx: int, ny: int, n: int) -> tuple:
     """home_grid_pairs' scratch for n boxes in an nx x ny grid (or one of fewer, wider cells):
     count, start for its (nx + 1) * (ny + 2) cells, zero and empty; ids, cell_lo, cell_hi; room;
-    homes and cell_homes (n,), each box's home cell by index and in cell order. int32 counts and
-    cells: half the memory traffic (n < 2^31, and about 4n cells)."""
+    homes and cell_homes (n,), each box's home_and_reach by index and in cell order. int32 counts
+    and cells: half the memory traffic (about 4n cells, so n up to some 10^8; a grid of more than
+    MOST_CELLS cells gets room for no box)."""
     cells = (nx + 1) * (ny + 2)
-    return (np.zeros(cells, np.int32), np.empty(cells + 1, np.int32), np.empty(n, np.intp), np.empty((n, 2)),
-            np.empty((n, 2)), np.full(1, n // 8, np.intp), np.empty(n, np.int32), np.empty(n, np.int32))
+    boxes = n if cells < MOST_CELLS else 0   # (no room for boxes: the step files them in grid.py's way)
+    return (np.zeros(cells, np.int32), np.empty(cells + 1, np.int32), np.empty(boxes, np.intp), np.empty((boxes, 2)),
+            np.empty((boxes, 2)), np.full(1, boxes // 8, np.intp), np.empty(boxes, np.int32),
+            np.empty(boxes, np.int32))
 
 
 @kernel
-def home_cell(lo, i, origin, per_unit, nx, ny):
-    """The id of box i's home cell, the cell of its lower-left corner, in the padded numbering
-    of home_grid_pairs: ix * (ny + 2) + iy + 1."""
-    return (cell_of(lo[i, 0], origin[0], per_unit, nx) * (ny + 2)
-            + cell_of(lo[i, 1], origin[1], per_unit, ny) + 1)
+def home_and_reach(lo, hi, i, origin, per_unit, nx, ny):
+    """Box i's home cell, the cell of its lower-left corner, in the padded numbering of
+    home_grid_pairs (ix * (ny + 2) + iy + 1), times 4, plus the forward neighbours it can
+    reach: EAST if its right edge is not left of the next column, NORTH if its top edge is not
+    below the next row. A box filed in the next column starts at least there, so (the cell of a
+    coordinate never decreasing as it grows) one that does not reach it lies wholly to the right
+    of box i; the same for rows. A NaN edge reaches both."""
+    ix = cell_of(lo[i, 0], origin[0], per_unit, nx)
+    iy = cell_of(lo[i, 1], origin[1], per_unit, ny)
+    east = not (hi[i, 0] - origin[0]) * per_unit < ix + 1
+    north = not (hi[i, 1] - origin[1]) * per_unit < iy + 1
+    return (ix * (ny + 2) + iy + 1) * 4 + EAST * east + NORTH * north
 
 
 @compiled
@@ -99,10 +116,10 @@ def home_grid_pairs(lo, hi, origin, per_unit, nx, ny, count, start, ids, cell_lo
     n = lo.shape[0]
     column = ny + 2
     cells = (nx + 1) * column                       # as home_scratch counts them
-    # 1. How many boxes each cell is home to.
+    # 1. How many boxes each cell is home to (and what each box reaches).
     for i in range(n):
-        homes[i] = home_cell(lo, i, origin, per_unit, nx, ny)
-        count[homes[i]] += 1
+        homes[i] = home_and_reach(lo, hi, i, origin, per_unit, nx, ny)
+        count[homes[i] >> 2] += 1
     # 2. Running totals: start[c] is where cell c's run ends (the one pass over every cell).
     total = 0
     for c in range(cells):
@@ -112,10 +129,10 @@ def home_grid_pairs(lo, hi, origin, per_unit, nx, ny, count, start, ids, cell_lo
     # 3. Fill each run from its end, boxes last to first, copying the boxes along: every
     #    start[c] steps back to its run's start and each run is in increasing index order.
     for i in range(n - 1, -1, -1):
-        c = homes[i]
+        c = homes[i] >> 2
         k = start[c] - 1
         start[c] = k
-        ids[k], cell_homes[k] = i, c
+        ids[k], cell_homes[k] = i, homes[i]
         cell_lo[k, 0], cell_lo[k, 1], cell_hi[k, 0], cell_hi[k, 1] = lo[i, 0], lo[i, 1], hi[i, 0], hi[i, 1]
     # 4. The pairs, into a buffer grown between scans when a box's tests might overflow it.
     pairs, found, a = np.empty((max(16, room[0]), 2), np.intp), np.intp(0), np.intp(0)
@@ -132,15 +149,18 @@ def scan_cells(cell_lo, cell_hi, ids, cell_homes, start, count, a, n, column, pa
     """The overlapping pairs of boxes a, a + 1, ... < n (in cell order: home_grid_pairs) into pairs
     from row `found` on, until a box's tests might not fit. Returns (the next box, found).
 
-    Box by box rather than cell by cell: each box finds its two runs (the rest of its cell and
-    its north neighbour; the east column) from its own cell, so the boxes' lookups overlap in the
-    processor instead of each cell waiting for the last one's end. Every test writes its pair and
-    only a hit advances `found` (no branch to mispredict: most tests miss); the buffer is not
-    grown in here, which would make numba count references to it on every box."""
+    Box by box rather than cell by cell: each box finds its two runs (the rest of its cell, and
+    its north neighbour if it reaches it; the east column's south-east and east cells, and the
+    north-east one, if it reaches that column: home_and_reach) from its own cell, so the boxes'
+    lookups overlap in the processor instead of each cell waiting for the last one's end. Every
+    test writes its pair and only a hit advances `found` (no branch to mispredict: most tests
+    miss); the buffer is not grown in here, which would make numba count references to it on
+    every box."""
     while a < n:
-        c = cell_homes[a]
-        own = start[c + 2] - a - 1
-        east_first, east = start[c + column - 1], start[c + column + 2] - start[c + column - 1]
+        c, north = cell_homes[a] >> 2, (cell_homes[a] & NORTH) >> 1
+        own = start[c + 1 + north] - a - 1
+        east_first = start[c + column - 1]
+        east = start[c + column + 1 + north] - east_first if cell_homes[a] & EAST else 0
         if found + own + east > pairs.shape[0]:
             return a, found
         count[c] = 0                                    # zero again for the next call
