@@ -30,6 +30,17 @@ def copy_rows(source, target, count):
         flat_target[k] = flat_source[k]
 
 
+@kernel
+def scatter_rows(source, target, order):
+    """target[order[k]] = source[k] for every row k of source, for C-contiguous arrays whose rows
+    have the same shape (copy_rows, each row to the place `order` gives it)."""
+    width = source.size // source.shape[0] if source.shape[0] > 0 else 0
+    flat_source, flat_target = source.reshape(source.size), target.reshape(target.size)
+    for k in range(source.shape[0]):
+        for c in range(width):
+            flat_target[order[k] * width + c] = flat_source[k * width + c]
+
+
 SIGN = np.uint64(1 << 63)
 
 

@@ -38,6 +38,7 @@ from ..broadphase.step import candidate_pairs, sort_pairs
 from ..core.compiling import compiled, kernel
 from ..core.geometry.polygon import place_polygons
 from ..core.kinds import CIRCLE, MAP, N_WALLS, PAIR, SEGMENT, SUPPORT, WALL, shapes_flag
+from ..model.trajectory import Events
 from .hierarchy import level_scratch, record_levels
 from ..response.hold import held_note
 from ..response.pair_rows import pair_manifolds
@@ -47,7 +48,8 @@ from ..response.solve import flags_of, hold_contacts, rest_contacts, solver_of
 from ..response.solver import add_contact_motion, collide
 from ..response.warmstart import no_memory, recall, remember
 from ..statics.segment_index import build_segment_index
-from .frames import constant_angles, new_frames
+from .cell_order import ORDER_FRAMES, events_in_world_numbers, in_world_numbers, keeps_cell_order, renumber
+from .frames import Frames, constant_angles, new_frames, record_state
 from .eventlog import append, in_canonical_order, log_events, new_log, with_room
 from .fast_polygons import (fast_note, fly_swept, keep_starts, mark_swept, new_fast, note_outpaced, outpaced,
                             segment_reach)
@@ -220,15 +222,16 @@ def _log_contacts(rows, count, log, now, frame_collisions, the_map):
 
 
 @compiled(nogil=True)   # engine/ahead.py runs blocks on a thread of their own
-def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log, memory, contacts, work,
+def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log, memory, contacts, work, order,
                phase_cycles):
     """Advance bodies in place by out's frame count, each frame `substeps` steps of dt, filling
     out (Frames, frames.py) and appending every collision to log. memory: the contacts' impulses of the
     step before (response/warmstart.py); contacts: those the next step starts from (Contacts);
     sleep: which bodies sleep (engine/islands.py), in place (a world that never sleeps compiles
     none of it: sleep_paths.py);
-    work: the step's per-body arrays (Work). phase_cycles (len(PHASES) + 1,) int64 receives the
-    cycles per phase (engine/profile.py) and their total. Returns (log, memory, contacts, whether
+    work: the step's per-body arrays (Work); order: None, or the world's number of each body where
+    they are kept in cell order (cell_order.py: the frames are recorded in the world's order).
+    phase_cycles (len(PHASES) + 1,) int64 receives the cycles per phase (engine/profile.py) and their total. Returns (log, memory, contacts, whether
     the log is in canonical order: eventlog.log_events then need not check it in Python)."""
     start = cycles()
     b, s = bodies, statics
@@ -314,11 +317,7 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
             copy_rows(out.hierarchy[frame], recorded, 4)
         still_since_record = still_now
         recorded[4] = still_now
-        copy_rows(b.positions, out.positions[frame], n)   # (arrays.py: no slice assignment)
-        copy_rows(b.velocities, out.velocities[frame], n)
-        if out.angles.shape[1] == n:  # bodies that turn (see new_frames)
-            copy_rows(b.angles, out.angles[frame], n)
-            copy_rows(b.angular_velocities, out.angular_velocities[frame], n)
+        record_state(b, out, frame, n, order)
         t = _lap(phase_cycles, RECORD, t)
     phase_cycles[TOTAL] += cycles() - start
     return log, memory, Contacts(found, rows, count, pairs, touching), in_canonical_order(log)
@@ -359,6 +358,12 @@ class DiscreteStepper:
         self.profile = profile or Profile()
         self.step_count = 0
         self.warnings = []
+        self.order = None   # the world's number of each of the step's bodies, kept in cell order (cell_order.py)
+        if keeps_cell_order(w, self.sleep):
+            b = self.bodies   # (the stepper's own copies of what it renumbers)
+            self.bodies = b._replace(shapes=b.shapes.copy(), radii=b.radii.copy(), masses=b.masses.copy(),
+                                     inertias=b.inertias.copy())
+            self.order, self.cell_width = np.arange(w.n), 2.0 * float(np.max(w.radii))
 
     def run(self, count: int, into=None):
         """Advance `count` frames: (Frames, Events). into: where to write the frames' positions
@@ -367,16 +372,31 @@ class DiscreteStepper:
         # contacts turn polygons, and circles with friction; otherwise ω stays as given
         turning = bool(np.any(b.angular_velocities != 0.0) or np.any(b.shapes != CIRCLE) or self.statics.friction > 0)
         out = new_frames(count, len(b.positions), turning, into)
-        self.log.size[0] = 0
         self.work.fast.outpaced[:] = 0
-        self.log, self.memory, self.contacts, ordered = self.profile.timed(lambda phase_cycles: run_frames(
-            b, self.statics, self.broad, self.sleep, self.dt, self.substeps, self.step_count, out, self.log,
-            self.memory, self.contacts, self.work, phase_cycles))
-        if out.approximate.any() and not self.warnings:
-            first = int(np.argmax(out.approximate))
-            fast = self.work.fast.outpaced[0] > 0 and self.work.fast.outpaced[1] == first
-            self.warnings.append((fast_note if fast else held_note)(self.step_count // self.substeps + 1 + first))
-        self.step_count += count * self.substeps
+        parts, done = [], 0
+        while done < count:   # in parts that end where the bodies are renumbered
+            frame = self.step_count // self.substeps
+            if self.order is not None and frame % ORDER_FRAMES == 0:   # (the contacts are found again)
+                self.order, self.memory = renumber(self.bodies, self.work, self.memory, self.broad, self.order,
+                                                   self.statics.box, self.cell_width)
+                self.contacts = self.contacts._replace(count=-1)
+            part = count - done if self.order is None else min(count - done, ORDER_FRAMES - frame % ORDER_FRAMES)
+            parts.append(self._run_part(Frames(*(a[done:done + part] for a in out))))
+            done += part
         if not turning:
-            out = constant_angles(out, b.angles.copy(), b.angular_velocities.copy())
-        return out, log_events(self.log, ordered=ordered)
+            out = constant_angles(out, in_world_numbers(b.angles, self.order), in_world_numbers(b.angular_velocities,
+                                                                                                self.order))
+        return out, parts[0] if len(parts) == 1 else Events.concatenate(parts)
+
+    def _run_part(self, out: Frames) -> Events:
+        """run_frames on out (frames of the block): their events."""
+        self.log.size[0] = 0
+        self.log, self.memory, self.contacts, ordered = self.profile.timed(lambda phase_cycles: run_frames(
+            self.bodies, self.statics, self.broad, self.sleep, self.dt, self.substeps, self.step_count, out, self.log,
+            self.memory, self.contacts, self.work, self.order, phase_cycles))
+        if out.approximate.any() and not self.warnings:
+            frame = int(np.argmax(out.approximate))
+            fast = self.work.fast.outpaced[0] > 0 and self.work.fast.outpaced[1] == frame
+            self.warnings.append((fast_note if fast else held_note)(self.step_count // self.substeps + 1 + frame))
+        self.step_count += len(out.positions) * self.substeps
+        return events_in_world_numbers(log_events(self.log, ordered=ordered), self.order)

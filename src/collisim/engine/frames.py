@@ -5,6 +5,8 @@ from collections import namedtuple
 
 import numpy as np
 
+from ..core.arrays import copy_rows, scatter_rows
+from ..core.compiling import kernel
 from .hierarchy import NOT_COUNTED
 
 Frames = namedtuple("Frames", ["positions", "velocities", "angles", "angular_velocities", "collisions",
@@ -34,3 +36,23 @@ def constant_angles(frames: Frames, angles, angular_velocities) -> Frames:
     count = len(frames.positions)
     return frames._replace(angles=np.broadcast_to(angles, (count, len(angles))),
                            angular_velocities=np.broadcast_to(angular_velocities, (count, len(angles))))
+
+
+@kernel
+def record_state(bodies, out, frame, n, order):
+    """The bodies' state into out's frame: in the step's order, or in the world's, the step's
+    body k as the world's body order[k] (cell_order.py)."""
+    b = bodies
+    turning = out.angles.shape[1] == n   # bodies that turn (see new_frames)
+    if order is None:
+        copy_rows(b.positions, out.positions[frame], n)   # (arrays.py: no slice assignment)
+        copy_rows(b.velocities, out.velocities[frame], n)
+        if turning:
+            copy_rows(b.angles, out.angles[frame], n)
+            copy_rows(b.angular_velocities, out.angular_velocities[frame], n)
+    else:
+        scatter_rows(b.positions, out.positions[frame], order)
+        scatter_rows(b.velocities, out.velocities[frame], order)
+        if turning:
+            scatter_rows(b.angles, out.angles[frame], order)
+            scatter_rows(b.angular_velocities, out.angular_velocities[frame], order)
