@@ -16,7 +16,8 @@ whatever the blocks and the broad phase. The contacts are found again after a re
 contact phase every ORDER_FRAMES frames) and the warm-start memory follows the bodies.
 
 Worlds of circles alone, without sleeping, segments or a map (gases in a box), of at least
-ORDER_MIN bodies: below that the step's arrays stay in cache whatever the order.
+ORDER_MIN bodies: with fewer, the step's arrays stay in the processor's caches whatever the
+order, and the renumbering costs more than it saves.
 """
 from __future__ import annotations
 
@@ -27,7 +28,7 @@ from ..model.trajectory import Events
 from ..response.warmstart import Memory
 
 ORDER_FRAMES = 16     # frames between renumberings: a gas moves about a tenth of a radius a frame
-ORDER_MIN = 20_000    # bodies
+ORDER_MIN = 100_000   # bodies: at 20 000 and 50 000 the renumbering cost more than it saved
 MEMORY_STATICS = N_WALLS + 1   # the statics the rows of such a world number: the walls, then the (absent) map
 
 
@@ -47,16 +48,15 @@ def cell_permutation(positions, box, width: float) -> np.ndarray:
 
 def renumber(bodies, work, memory, broad, order, box, width: float) -> tuple:
     """Number the bodies anew in cell order, in place: the state of each (bodies, and work's
-    arrays kept from step to step), and sweep and prune's order (kept from step to step, and
+    1/m and 1/I), and sweep and prune's order (kept from step to step, and
     repaired by insertion: in the new numbers it stays nearly sorted). Returns (order, memory):
     the world's number of each body, and the warm-start memory, in the new numbers."""
     new = cell_permutation(bodies.positions, box, width)   # new number -> old
     new_of_old = np.empty_like(new)
     new_of_old[new] = np.arange(len(new))
-    b, w = bodies, work
+    b = bodies   # (the solver's push and shift are set for the bodies of a step's rows before use)
     for values in (b.shapes, b.positions, b.velocities, b.angles, b.angular_velocities, b.accelerations, b.radii,
-                   b.masses, b.inertias, w.push, w.shift, w.push_turn, w.shift_turn, w.inverse_masses,
-                   w.inverse_inertias, w.moved):
+                   b.masses, b.inertias, work.inverse_masses, work.inverse_inertias):
         values[:] = values[new]
     if hasattr(broad, "axis"):
         broad.order[:] = new_of_old[broad.order]
