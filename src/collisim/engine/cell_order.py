@@ -1,10 +1,10 @@
 """A large gas kept in cell order: bodies that meet lie near each other in memory.
 
 A gas mixes. After a few seconds bodies that touch have numbers far apart, and every pass of the
-step over pairs (the grid's filing, the pairs' manifolds, the solve) reads memory at random: at
-100 000 bodies the discrete step of a shuffled gas costs about 1.2 times that of the same gas
-numbered along a grid (docs/benchmarks.md). So the discrete stepper of a world that qualifies
-(`keeps_cell_order`) numbers its bodies anew at the start of every ORDER_FRAMES-th frame: in the
+step over pairs (the grid's filing, the pairs' manifolds, the solve) reads memory at random: from
+about a hundred thousand bodies, whose arrays outgrow the processor's caches, a large share of the
+step (docs/benchmarks.md). So the discrete stepper of a world that qualifies (`keeps_cell_order`)
+numbers its bodies anew at the start of every ORDER_FRAMES-th frame: in the
 order of the cells of a fixed grid, one cell as wide as the largest body, column by column, ties
 kept in the order they had. The step sees these numbers; the trajectory and the events, the
 world's own (`order[k]`: the world's number of the body the step numbers k).
@@ -28,7 +28,7 @@ from ..model.trajectory import Events
 from ..response.warmstart import Memory
 
 ORDER_FRAMES = 16     # frames between renumberings: a gas moves about a tenth of a radius a frame
-ORDER_MIN = 100_000   # bodies: at 20 000 and 50 000 the renumbering cost more than it saved
+ORDER_MIN = 100_000   # bodies (below, the renumbering cost more than it saved: docs/benchmarks.md)
 MEMORY_STATICS = N_WALLS + 1   # the statics the rows of such a world number: the walls, then the (absent) map
 
 
