@@ -56,7 +56,8 @@ def decode_video(path):
 def statics_step(positions, velocities, radii, masses, box, segments=None, restitution=1.0, accelerations=None):
     """One statics phase of the discrete step (segments, then walls) on raw arrays, in place:
     returns (collisions (3,) wall, pair, segment, Events)."""
-    from collisim.engine.discrete import Bodies, Statics, statics_phase, statics_scratch
+    from collisim.engine.statics_paths import statics_phase, statics_scratch
+    from collisim.engine.step_state import Bodies, Statics
     from collisim.engine.eventlog import log_events, new_log
     from collisim.statics import build_segment_index
     n = len(positions)

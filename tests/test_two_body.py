@@ -20,7 +20,7 @@ def closed_form(x1, x2, v1, v2, m1, m2):
 
 
 def bodies_of(positions, velocities, masses, radii):
-    from collisim.engine.discrete import Bodies
+    from collisim.engine.step_state import Bodies
     return Bodies(np.zeros(2, np.int8), positions, velocities, np.zeros(2), np.zeros(2), np.zeros((2, 2)), radii,
                   masses, 0.5 * masses * radii ** 2, np.zeros(3, np.int64), np.zeros((0, 2)))
 

@@ -55,8 +55,8 @@ def renumber(bodies, work, memory, broad, order, box, width: float) -> tuple:
     new_of_old = np.empty_like(new)
     new_of_old[new] = np.arange(len(new))
     b = bodies   # (the solver's push and shift are set for the bodies of a step's rows before use)
-    for values in (b.shapes, b.positions, b.velocities, b.angles, b.angular_velocities, b.accelerations, b.radii,
-                   b.masses, b.inertias, work.inverse_masses, work.inverse_inertias):
+    for values in (b.positions, b.velocities, b.angles, b.angular_velocities, b.accelerations, b.radii, b.masses,
+                   b.inertias, work.inverse_masses, work.inverse_inertias):   # (shapes: all circles)
         values[:] = values[new]
     if hasattr(broad, "axis"):
         broad.order[:] = new_of_old[broad.order]
@@ -69,10 +69,7 @@ def renumbered_memory(memory: Memory, new_of_old: np.ndarray, statics: int) -> M
     n = len(new_of_old)
     span = n + statics
     point, pair = memory.keys % 2, memory.keys // 2
-    i, other = new_of_old[pair // span], pair % span
-    body = other < n
-    j = np.where(body, new_of_old[np.minimum(other, n - 1)], other)
-    low, high = np.where(body, np.minimum(i, j), i), np.where(body, np.maximum(i, j), j)
+    low, high = _pair_in(new_of_old, pair // span, pair % span, pair % span < n)
     keys = 2 * (low * span + high) + point
     at = np.argsort(keys, kind="stable")
     return Memory(keys[at], memory.impulses[at], memory.frictions[at])
@@ -83,11 +80,16 @@ def events_in_world_numbers(events: Events, order) -> Events:
     (as they are where the step keeps the world's, order None)."""
     if order is None or len(events) == 0:
         return events
-    i = order[events.i]
-    pair = events.kind == PAIR
-    j = np.where(pair, order[np.where(pair, events.j, 0)], events.j)
-    low, high = np.where(pair, np.minimum(i, j), i), np.where(pair, np.maximum(i, j), j)
+    low, high = _pair_in(order, events.i, events.j, events.kind == PAIR)
     return Events.concatenate([Events(events.time, events.kind, low, high, events.impulse, events.point)])
+
+
+def _pair_in(numbers, i, j, pair):
+    """(i, j) in other numbers (numbers[k]: the new number of k): i, and j where `pair` says it is
+    a body (else a static's number, kept), a pair's lower number first."""
+    i = numbers[i]
+    j = np.where(pair, numbers[np.where(pair, j, 0)], j)
+    return np.where(pair, np.minimum(i, j), i), np.where(pair, np.maximum(i, j), j)
 
 
 def in_world_numbers(values: np.ndarray, order) -> np.ndarray:

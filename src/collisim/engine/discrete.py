@@ -28,8 +28,6 @@ the sleepers' support, logged, and the record: as in Box2D, a world asleep costs
 """
 from __future__ import annotations
 
-from collections import namedtuple
-
 import numpy as np
 
 from ..core.arrays import copy_rows
@@ -39,7 +37,7 @@ from ..core.compiling import compiled, kernel
 from ..core.geometry.polygon import place_polygons
 from ..core.kinds import CIRCLE, MAP, N_WALLS, PAIR, SEGMENT, SUPPORT, WALL, shapes_flag
 from ..model.trajectory import Events
-from .hierarchy import level_scratch, record_levels
+from .hierarchy import record_levels
 from ..response.hold import held_note
 from ..response.pair_rows import pair_manifolds
 from ..response.rows import (margin_of, margins, near_segments, new_found, new_rows, rows_from, segment_manifolds,
@@ -51,9 +49,10 @@ from ..statics.segment_index import build_segment_index
 from .cell_order import ORDER_FRAMES, events_in_world_numbers, in_world_numbers, keeps_cell_order, renumber
 from .frames import Frames, constant_angles, new_frames, record_state
 from .eventlog import append, in_canonical_order, log_events, new_log, with_room
-from .fast_polygons import (fast_note, fly_swept, keep_starts, mark_swept, new_fast, note_outpaced, outpaced,
+from .fast_polygons import (fast_note, fly_swept, keep_starts, mark_swept, note_outpaced, outpaced,
                             segment_reach)
 from .islands import new_sleep
+from .step_state import ITERATIONS, Bodies, Contacts, Statics, new_work
 from .integrate import integrate
 from .profile import Profile, cycles
 from .sleep_paths import carry, doze, keep_touching, remember_sleepers, still, wake
@@ -62,49 +61,6 @@ from .statics_paths import (circle_map_rows, circle_segment_rows, keep_start, ma
 
 # numpy integers: _lap(cycles, BROAD, t) compiles once, not once per phase (core/kinds.py says why)
 INTEGRATE, BROAD, NARROW, RESPONSE, STATICS, SETTLE, SLEEP, RECORD, TOTAL = np.arange(9, dtype=np.int64)
-ITERATIONS = 20   # sweeps of the contact solver per step (response/solver.py)
-
-Bodies = namedtuple("Bodies", ["shapes", "positions", "velocities", "angles", "angular_velocities",
-                               "accelerations", "radii", "masses", "inertias", "vertex_start", "body_vertices"])
-Statics = namedtuple("Statics", ["box", "segments", "index", "map", "restitution", "rest_speed", "iterations",
-                                 "friction", "volumes", "pulled", "keep", "soft", "rigid"],
-                     defaults=(0.0, ITERATIONS, 0.0, None, None, 1.0, None, True))
-Statics.__doc__ = """What bodies meet besides each other: box (4,), segments (m, 4) and their index, the
-collision map's field (index and map None when the world has none: see statics_paths.py); and
-how contacts respond: restitution e, the rest speed below which a contact rests instead of
-bouncing, the solver's sweeps per step, and the friction coefficient; keep: the fraction of its
-velocity a body keeps over a step (World.damping ** dt, 1 without damping); volumes True for a world
-with polygons, whose frames count the bounding-volume funnel (narrowphase/hierarchy.py) and
-whose contact phases compile the polygon paths (narrowphase/manifold.py), else None; pulled True
-where a body has an acceleration, else None: with nothing pulling the hold (response/hold.py)
-holds nothing, and is not compiled; soft True and rigid None where the soft step holds the
-contacts (response/solve.py), soft None and rigid True where the rigid solve does: numba leaves
-out a branch on `is None` only for an argument typed None, so each solver has its flag."""
-Contacts = namedtuple("Contacts", ["found", "rows", "count", "pairs", "touching"])
-Contacts.__doc__ = """The contacts the next step starts from, kept from block to block (finding them again at
-each block's start cost a whole broad and narrow phase: a block is one frame at a million
-bodies): found and rows (response/rows.py, grown as needed), the rows' count (-1 before the
-first block: not found yet), the candidate pairs (k, 2) and which of them touch (k,) (empty
-when not known: a world asleep then finds them again, by the exact test, at every block)."""
-Work = namedtuple("Work", ["lo", "hi", "margin", "push", "shift", "push_turn", "shift_turn", "vertices",
-                           "inverse_masses", "inverse_inertias", "moved", "fast", "levels", "recorded"])
-Work.__doc__ = """The step's per-body arrays, made once a run (made at every block, they were a tenth of a
-gigabyte a frame at a million bodies): the bounding boxes lo, hi (n, 2) and margins (n,) of
-the contact phases; the solver's push, shift (n, 2) and their turns (n,) (response/solver.py);
-the polygons' placed vertices; 1/m and 1/I (the solver multiplies); moved (n,) bool, all False
-between steps (add_contact_motion); fast: the fast polygons' (fast_polygons.py); levels:
-record_levels' scratch (hierarchy.level_scratch); recorded (5,) int64: the last frame recorded's
-funnel counts (out.hierarchy's row) and whether every body was still at it (1, else 0), so that a
-block of a world asleep copies them rather than count them again."""
-
-
-def new_work(bodies) -> Work:
-    n = len(bodies.positions)
-    return Work(np.empty((n, 2)), np.empty((n, 2)), np.empty(n), np.zeros((n, 2)), np.zeros((n, 2)), np.zeros(n),
-                np.zeros(n), np.empty_like(bodies.body_vertices), 1.0 / bodies.masses, 1.0 / bodies.inertias,
-                np.zeros(n, np.bool_), new_fast(n), level_scratch(bodies), np.zeros(5, np.int64))
-
-
 @kernel
 def _lap(phase_cycles, phase, since):
     now = cycles()
@@ -231,8 +187,9 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
     none of it: sleep_paths.py);
     work: the step's per-body arrays (Work); order: None, or the world's number of each body where
     they are kept in cell order (cell_order.py: the frames are recorded in the world's order).
-    phase_cycles (len(PHASES) + 1,) int64 receives the cycles per phase (engine/profile.py) and their total. Returns (log, memory, contacts, whether
-    the log is in canonical order: eventlog.log_events then need not check it in Python)."""
+    phase_cycles (len(PHASES) + 1,) int64 receives the cycles per phase (engine/profile.py) and
+    their total. Returns (log, memory, contacts, whether the log is in canonical order:
+    eventlog.log_events then need not check it in Python)."""
     start = cycles()
     b, s = bodies, statics
     n = b.positions.shape[0]
@@ -361,8 +318,7 @@ class DiscreteStepper:
         self.order = None   # the world's number of each of the step's bodies, kept in cell order (cell_order.py)
         if keeps_cell_order(w, self.sleep):
             b = self.bodies   # (the stepper's own copies of what it renumbers)
-            self.bodies = b._replace(shapes=b.shapes.copy(), radii=b.radii.copy(), masses=b.masses.copy(),
-                                     inertias=b.inertias.copy())
+            self.bodies = b._replace(radii=b.radii.copy(), masses=b.masses.copy(), inertias=b.inertias.copy())
             self.order, self.cell_width = np.arange(w.n), 2.0 * float(np.max(w.radii))
 
     def run(self, count: int, into=None):
