@@ -47,7 +47,8 @@ from ..response.solver import add_contact_motion, collide
 from ..response.warmstart import no_memory, recall, remember
 from ..statics.segment_index import build_segment_index
 from .cell_order import ORDER_FRAMES, events_in_world_numbers, in_world_numbers, keeps_cell_order, renumber
-from .frames import Frames, constant_angles, new_frames, record_state
+from .frames import Frames, constant_angles, new_frames, record_state, repeat_idle
+from .idle import idle_block, timed_idle
 from .eventlog import append, in_canonical_order, log_events, new_log, with_room
 from .fast_polygons import (fast_note, fly_swept, keep_starts, mark_swept, note_outpaced, outpaced,
                             segment_reach)
@@ -189,7 +190,9 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
     they are kept in cell order (cell_order.py: the frames are recorded in the world's order).
     phase_cycles (len(PHASES) + 1,) int64 receives the cycles per phase (engine/profile.py) and
     their total. Returns (log, memory, contacts, whether the log is in canonical order:
-    eventlog.log_events then need not check it in Python)."""
+    eventlog.log_events then need not check it in Python, the frame from which every body
+    slept and none could wake, or out's frame count): every later frame of the block repeats
+    that one, recorded once, and is left for the caller to fill (DiscreteStepper.run)."""
     start = cycles()
     b, s = bodies, statics
     n = b.positions.shape[0]
@@ -208,6 +211,7 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
                                                                  work.fast, phase_cycles, t)
     still_since_record = recorded[4] == 1   # every body asleep at the last frame recorded, none since
     idle = False   # every body asleep since the contacts were found, to the end of the block
+    idle_from = out.positions.shape[0]   # the frame the later ones repeat
     for frame in range(out.positions.shape[0]):
         frame_collisions = out.collisions[frame]
         for substep in range(substeps):
@@ -274,10 +278,13 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
             copy_rows(out.hierarchy[frame], recorded, 4)
         still_since_record = still_now
         recorded[4] = still_now
-        record_state(b, out, frame, n, order)
+        if frame <= idle_from:
+            record_state(b, out, frame, n, order)
+            if idle:
+                idle_from = frame
         t = _lap(phase_cycles, RECORD, t)
     phase_cycles[TOTAL] += cycles() - start
-    return log, memory, Contacts(found, rows, count, pairs, touching), in_canonical_order(log)
+    return log, memory, Contacts(found, rows, count, pairs, touching), in_canonical_order(log), idle_from
 
 
 class DiscreteStepper:
@@ -315,6 +322,7 @@ class DiscreteStepper:
         self.profile = profile or Profile()
         self.step_count = 0
         self.warnings = []
+        self.idle = False   # every body asleep and none able to wake: run makes its blocks in numpy (idle.py)
         self.order = None   # the world's number of each of the step's bodies, kept in cell order (cell_order.py)
         if keeps_cell_order(w, self.sleep):
             b = self.bodies   # (the stepper's own copies of what it renumbers)
@@ -324,6 +332,8 @@ class DiscreteStepper:
     def run(self, count: int, into=None):
         """Advance `count` frames: (Frames, Events). into: where to write the frames' positions
         and velocities (new_frames), or None for new arrays."""
+        if self.idle:   # every body asleep since the block before, none able to wake
+            return timed_idle(self.profile, lambda: self._idle(count, into))
         b = self.bodies
         # contacts turn polygons, and circles with friction; otherwise ω stays as given
         turning = bool(np.any(b.angular_velocities != 0.0) or np.any(b.shapes != CIRCLE) or self.statics.friction > 0)
@@ -338,16 +348,27 @@ class DiscreteStepper:
                 self.contacts = self.contacts._replace(count=-1)
             part = count - done if self.order is None else min(count - done, ORDER_FRAMES - frame % ORDER_FRAMES)
             parts.append(self._run_part(Frames(*(a[done:done + part] for a in out))))
+            idle_from = done + self.idle_from
             done += part
         if not turning:
             out = constant_angles(out, in_world_numbers(b.angles, self.order), in_world_numbers(b.angular_velocities,
                                                                                                 self.order))
+        self.idle = idle_from < count
+        out = repeat_idle(out, idle_from + 1, into is None)
         return out, parts[0] if len(parts) == 1 else Events.concatenate(parts)
+
+    def _idle(self, count: int, into) -> tuple:
+        """run(count, into) of a world asleep (idle.py)."""
+        b, sleep, first = self.bodies, self.sleep, self.step_count + 1
+        self.step_count += count * self.substeps
+        state = tuple(a.copy() for a in (b.positions, b.velocities, b.angles, b.angular_velocities))
+        return idle_block(count, first, count * self.substeps, self.dt, sleep.carried[:sleep.carried_count[0]], state,
+                          self.contacts.pairs.shape[0], self.work.recorded[:4], into)
 
     def _run_part(self, out: Frames) -> Events:
         """run_frames on out (frames of the block): their events."""
         self.log.size[0] = 0
-        self.log, self.memory, self.contacts, ordered = self.profile.timed(lambda phase_cycles: run_frames(
+        self.log, self.memory, self.contacts, ordered, self.idle_from = self.profile.timed(lambda phase_cycles: run_frames(
             self.bodies, self.statics, self.broad, self.sleep, self.dt, self.substeps, self.step_count, out, self.log,
             self.memory, self.contacts, self.work, self.order, phase_cycles))
         if out.approximate.any() and not self.warnings:

@@ -38,6 +38,26 @@ def constant_angles(frames: Frames, angles, angular_velocities) -> Frames:
                            angular_velocities=np.broadcast_to(angular_velocities, (count, len(angles))))
 
 
+def repeat_idle(frames: Frames, unrecorded: int, fresh: bool) -> Frames:
+    """frames whose state from row `unrecorded` on repeats the row before it (a world asleep, none
+    of it able to wake: run_frames records that state once). New rows (`fresh`) repeating the
+    block's first become read-only views of one row, as constant_angles', so a world asleep costs
+    no memory and no copy a frame; rows that are another's (simulate's trajectory) are filled in."""
+    count = len(frames.positions)
+    if unrecorded >= count:
+        return frames
+    repeated = {}
+    for name in ("positions", "velocities", "angles", "angular_velocities"):
+        rows = getattr(frames, name)
+        if rows.strides[0] == 0:   # repeats one row already (constant_angles)
+            continue
+        if fresh and unrecorded == 1:
+            repeated[name] = np.broadcast_to(rows[0].copy(), rows.shape)
+        else:
+            rows[unrecorded:] = rows[unrecorded - 1]
+    return frames._replace(**repeated)
+
+
 @kernel
 def record_state(bodies, out, frame, n, order):
     """The bodies' state into out's frame: in the step's order, or in the world's, the step's

@@ -33,8 +33,11 @@ the repeats).
 
 A last line gives the cost of a step of the world fully asleep (asleep_cost): each engine that
 sleeps (collisim, pymunk sleeping, Box2D 2.3) is run on a fresh copy until every body sleeps,
-then timed over ASLEEP_STEPS steps in alternating blocks of simulate's BLOCK_FRAMES (collisim
-records every frame and logs the sleepers' support, as a scene's run does), once a repeat.
+then timed over ASLEEP_STEPS steps in alternating blocks of simulate's BLOCK_FRAMES, once a
+repeat. collisim logs the sleepers' support every step and returns each block as a render's
+stream gets it: frames of a world asleep are one state repeated (engine/idle.py). "collisim
+storing" is the same step writing every frame into new rows, as simulate() fills the
+trajectory it returns (float64 storage): its extra time is the memory, not the step.
 
     python -m collisim.analysis.bench.polygons [--scene pyramid40] [--seconds 8] [--repeats 3]
 """
@@ -102,12 +105,16 @@ def _timed(step, steps: int) -> float:
 
 
 class CollisimEngine:
-    """collisim's discrete engine (a DiscreteStepper), timed around its run."""
-    def __init__(self, stepper):
-        self.stepper = stepper
+    """collisim's discrete engine (a DiscreteStepper), timed around its run; storing: into new
+    rows of positions and velocities, as simulate() writes its trajectory."""
+    def __init__(self, stepper, storing: bool = False):
+        self.stepper, self.storing = stepper, storing
 
     def advance(self, steps: int) -> float:
-        return _timed(self.stepper.run, steps)
+        if not self.storing:
+            return _timed(self.stepper.run, steps)
+        n = len(self.stepper.bodies.positions)
+        return _timed(lambda count: self.stepper.run(count, (np.empty((count, n, 2)), np.empty((count, n, 2)))), steps)
 
     def asleep(self) -> int:
         return int(np.count_nonzero(self.stepper.sleep.asleep))
@@ -230,8 +237,10 @@ def asleep_cost(world, fps: float, repeats: int = 3) -> dict:
     """A step of the world fully asleep, in each engine that sleeps (the module): {"us": {engine:
     [microseconds a step, one a repeat]}, "asleep": {engine: (bodies asleep when timed, simulated
     seconds it took)}, "bodies": n}."""
+    from collisim.engine.discrete import DiscreteStepper
     from collisim.engine.simulate import BLOCK_FRAMES
     engines = {name: engine for name, engine in contenders(world, fps).items() if name != "pymunk"}
+    engines["collisim storing"] = CollisimEngine(DiscreteStepper(world, fps, 1, "auto"), storing=True)
     settled = {name: _settle(engine, world.n, fps, BLOCK_FRAMES) for name, engine in engines.items()}
     us = {name: [] for name in engines}
     for _ in range(int(repeats)):
@@ -256,9 +265,9 @@ def _settle(engine, n: int, fps: float, block: int) -> tuple[int, float]:
 def format_asleep(found: dict) -> str:
     us, n = found["us"], found["bodies"]
     ours = np.array(us["collisim"])
-    cells = [f"collisim {np.median(ours):.2f}"] + [
+    cells = [f"{name} {np.median(times):.2f}" for name, times in us.items() if name.startswith("collisim")] + [
         f"{name} {np.median(times):.2f} ({min(ours / np.array(times)):.2f}-{max(ours / np.array(times)):.2f})"
-        for name, times in us.items() if name != "collisim"]
+        for name, times in us.items() if not name.startswith("collisim")]
     asleep = ", ".join(f"{name} {k} / {n} after {seconds:.1f} s" for name, (k, seconds) in found["asleep"].items())
     return (f"fully asleep: us a step (median) and collisim / each (range over {len(ours)} repeats): "
             + ", ".join(cells) + f"\nbodies asleep when timed: {asleep}")
