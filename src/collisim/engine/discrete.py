@@ -34,14 +34,13 @@ from ..core.arrays import copy_rows
 from ..broadphase.registry import AUTO, choose, step_state
 from ..broadphase.step import candidate_pairs, sort_pairs
 from ..core.compiling import compiled, kernel
-from ..core.geometry.polygon import place_polygons
+from ..core.geometry.polygon import place_any_polygons
 from ..core.kinds import CIRCLE, MAP, N_WALLS, PAIR, SEGMENT, SUPPORT, WALL, shapes_flag
 from ..model.trajectory import Events
 from .hierarchy import record_levels
 from ..response.hold import held_note
 from ..response.pair_rows import pair_manifolds
-from ..response.rows import (margin_of, margins, near_segments, new_found, new_rows, rows_from, segment_manifolds,
-                             wall_manifolds, was_impact)
+from ..response.rows import margin_of, margins, new_found, new_rows, rows_from, wall_manifolds, was_impact
 from ..response.solve import flags_of, hold_contacts, rest_contacts, solver_of
 from ..response.solver import add_contact_motion, collide
 from ..response.warmstart import no_memory, recall, remember
@@ -58,7 +57,7 @@ from .integrate import integrate
 from .profile import Profile, cycles
 from .sleep_paths import carry, doze, keep_touching, remember_sleepers, still, wake
 from .statics_paths import (circle_map_rows, circle_segment_rows, keep_start, map_number, mark_held, may_turn,
-                            settle_in_map, static_kind, statics_phase, statics_scratch)
+                            polygon_segment_rows, settle_in_map, static_kind, statics_phase, statics_scratch)
 
 # numpy integers: _lap(cycles, BROAD, t) compiles once, not once per phase (core/kinds.py says why)
 INTEGRATE, BROAD, NARROW, RESPONSE, STATICS, SETTLE, SLEEP, RECORD, TOTAL = np.arange(9, dtype=np.int64)
@@ -115,8 +114,7 @@ def _contact_phases(bodies, statics, broad, sleep, dt, margin, lo, hi, vertices,
     if still(sleep, n) and prior[1].shape[0] == prior[0].shape[0]:
         fast.count[0] = 0
         return found, rows, 0, prior[0], prior[1], t   # nothing moved since the phase before
-    if statics.volumes is not None:   # a world with polygons
-        place_polygons(b.body_vertices, b.vertex_start, b.positions, b.angles, vertices)
+    place_any_polygons(statics.volumes, b.body_vertices, b.vertex_start, b.positions, b.angles, vertices)
     pairs = np.empty((0, 2), np.int64)
     if n >= 2:   # a lone body runs no pair phase
         _margins_and_bounds(b, dt, margin, lo, hi)
@@ -128,8 +126,7 @@ def _contact_phases(bodies, statics, broad, sleep, dt, margin, lo, hi, vertices,
     else:
         margins(b.velocities, b.angular_velocities, b.accelerations, b.radii, dt, margin)
     segment_margin = segment_reach(statics.volumes, b, dt, margin, statics.segments, fast.reach)
-    near = near_segments(b, segment_margin, statics.segments)
-    most = pairs.shape[0] + near + 4 * n   # a manifold a pair, a polygon and segment, a body and wall
+    most = pairs.shape[0] + 4 * n   # a manifold a pair, a body and wall (the statics' grow found themselves)
     if found.shape[0] < most:
         found = new_found(most + most // 2)
     in_pair, touching = np.zeros(n, np.bool_), np.empty(pairs.shape[0], np.bool_)
@@ -142,8 +139,7 @@ def _contact_phases(bodies, statics, broad, sleep, dt, margin, lo, hi, vertices,
                               fast)
     k = wall_manifolds(b, vertices, margin, dt, statics.box, statics.rest_speed, in_pair, found, k,
                        statics.volumes, no_wall_rows)
-    if near > 0:
-        k = segment_manifolds(b, vertices, segment_margin, statics.segments, found, k, statics.volumes, sleep.asleep)
+    found, k = polygon_segment_rows(b, statics, vertices, segment_margin, found, k, sleep.asleep)
     found, k = circle_segment_rows(b, statics, margin, in_pair, held, found, k, sleep.asleep)
     found, k = circle_map_rows(b, statics, margin, in_pair, found, k, sleep.asleep)
     if rows.i.shape[0] < 2 * k:   # up to two points a manifold

@@ -20,7 +20,8 @@ from ..core.geometry.vector import length
 from ..core.kinds import CIRCLE, MAP, N_WALLS, SEGMENT, WALL
 from ..narrowphase.statics import circle_segment, segment_contacts
 from ..response.map import bounce_off_map, glide_past_map, push_out
-from ..response.rows import MARGIN, beyond_segment, circle_map_manifold, circle_segment_manifolds
+from ..response.rows import (MARGIN, beyond_segment, circle_map_manifold, circle_segment_manifolds, near_segments,
+                              segment_manifolds)
 from ..response.statics import bounce_between_walls, bounce_off_segment, put_on_segment
 from ..statics.map_field import has_map, map_sample
 from ..statics.segment_index import segments_near
@@ -60,6 +61,14 @@ def circle_segment_rows(bodies, statics, margin, in_pair, held, found, k, asleep
     bounce takes its impact (looking up every circle's segments twice a step made a gas among
     segments cost 4.0 x the gas alone, against 2.0 x). Returns (found, the new record count)."""
     raise NotImplementedError("circle_segment_rows is called from compiled code")
+
+
+def polygon_segment_rows(bodies, statics, vertices, margin, found, k, asleep):
+    """Record after found[:k] the manifolds of the polygons within `margin` (fast_polygons'
+    segment_reach) of a segment (compiled code only; response/rows.segment_manifolds), found
+    grown as needed; nothing in a world without polygons or without segments. Returns (found,
+    the new record count)."""
+    raise NotImplementedError("polygon_segment_rows is called from compiled code")
 
 
 def circle_map_rows(bodies, statics, margin, in_pair, found, k, asleep):
@@ -180,6 +189,20 @@ def _circle_segment_rows(bodies, statics, margin, in_pair, held, found, k, aslee
             k = circle_segment_manifolds(b, margin, s.segments, near, count, i, s.rest_speed, in_pair, found, k)
         return found, k
     return held_by_segments
+
+
+@overload(polygon_segment_rows)
+def _polygon_segment_rows(bodies, statics, vertices, margin, found, k, asleep):
+    if _lacks(statics, "index") or _lacks(statics, "volumes"):
+        return lambda bodies, statics, vertices, margin, found, k, asleep: (found, k)
+
+    def polygons_near_segments(bodies, statics, vertices, margin, found, k, asleep):
+        near = near_segments(bodies, margin, statics.segments)
+        if near == 0:
+            return found, k
+        found = grown(found, k + near, k)
+        return found, segment_manifolds(bodies, vertices, margin, statics.segments, found, k, statics.volumes, asleep)
+    return polygons_near_segments
 
 
 @kernel

@@ -61,6 +61,9 @@ def far_end_calls(world, fps: float, substeps: int = 1, broadphase: str = "auto"
                out.collisions[0])),
     ]
     outpacing = [] if s.volumes is None else [(pair_outpaced, (b, w.margin, dt, sleep.asleep))]
+    on_segments = [] if s.volumes is None or s.index is None else [   # polygons near segments
+        (segment_manifolds, (b, w.vertices, w.margin, s.segments, found, none, s.volumes, sleep.asleep))]
+    near = [] if not on_segments else [(near_segments, (b, w.margin, s.segments))]
     sleeping = [] if sleep.on is None else [
         (fall_asleep, (sleep, b, rows, none, dt)),
         (keep_sleepers, (sleep, memory, memory, n, the_map + 1)),
@@ -86,14 +89,13 @@ def far_end_calls(world, fps: float, substeps: int = 1, broadphase: str = "auto"
                    s.iterations)),
     ] + outpacing + [
         (rows_from, (found, none, b, rows)),
-        (segment_manifolds, (b, w.vertices, w.margin, s.segments, found, none, s.volumes, sleep.asleep)),
+    ] + on_segments + [
         (wall_manifolds, (b, w.vertices, w.margin, dt, s.box, s.rest_speed, flags, found, none, s.volumes,
                           sleep.asleep)),
     ] + contact_sleeping + [
         (pair_manifolds, (b, w.vertices, w.margin, dt, pairs, found, none, flags, no_touching, s.volumes,
                           sleep.asleep, flags)),
-        (near_segments, (b, w.margin, s.segments)),
-    ]
+    ] + near
 
 
 def compile_far_end(world, fps: float, substeps: int = 1, broadphase: str = "auto", rest_speed=None) -> None:

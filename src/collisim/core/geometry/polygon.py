@@ -71,6 +71,15 @@ def place_polygons(body_vertices, vertex_start, positions, angles, out):
     return out
 
 
+@compiled(error_model="numpy")
+def place_any_polygons(polygons, body_vertices, vertex_start, positions, angles, out):
+    """place_polygons where the world has polygons (polygons: core/kinds.shapes_flag, None for a
+    world of circles alone, whose step then compiles none of it: numba prunes the branch on a
+    None argument)."""
+    if polygons is not None:
+        place_polygons(body_vertices, vertex_start, positions, angles, out)
+
+
 @kernel
 def polygon_bounds(vertices):
     """The axis-aligned box (xmin, ymin, xmax, ymax) around vertices (k, 2)."""
