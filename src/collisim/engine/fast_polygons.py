@@ -39,6 +39,7 @@ from numba.core import types
 from numba.extending import overload
 
 from ..core.compiling import compiled, inlined, kernel
+from ..core.geometry.vector import length
 from ..core.kinds import CIRCLE, POLYGON, WALL
 from .eventlog import append, with_room
 
@@ -67,8 +68,8 @@ def fast_note(frame: int) -> str:
 @inlined
 def _reach(b, dt, i):
     """How far any point of body i can move in a step of dt (response/rows.py's travel)."""
-    speed = math.hypot(b.velocities[i, 0], b.velocities[i, 1]) + abs(b.angular_velocities[i]) * b.radii[i]
-    return speed * dt + math.hypot(b.accelerations[i, 0], b.accelerations[i, 1]) * dt * dt
+    speed = length(b.velocities[i, 0], b.velocities[i, 1]) + abs(b.angular_velocities[i]) * b.radii[i]
+    return speed * dt + length(b.accelerations[i, 0], b.accelerations[i, 1]) * dt * dt
 
 
 @kernel
@@ -193,8 +194,8 @@ def _pair_outpaced(b, margin, dt, i, j):
     acceleration's ½·a·dt² as slack)?"""
     p, v, a, w, r = b.positions, b.velocities, b.accelerations, b.angular_velocities, b.radii
     dvx, dvy = v[j, 0] - v[i, 0], v[j, 1] - v[i, 1]
-    slack = 0.5 * math.hypot(a[j, 0] - a[i, 0], a[j, 1] - a[i, 1]) * dt * dt
-    closing = math.hypot(dvx, dvy) * dt + (abs(w[i]) * r[i] + abs(w[j]) * r[j]) * dt + 2.0 * slack
+    slack = 0.5 * length(a[j, 0] - a[i, 0], a[j, 1] - a[i, 1]) * dt * dt
+    closing = length(dvx, dvy) * dt + (abs(w[i]) * r[i] + abs(w[j]) * r[j]) * dt + 2.0 * slack
     if closing <= margin[i] + margin[j]:
         return False
     dx, dy = p[j, 0] - p[i, 0], p[j, 1] - p[i, 1]

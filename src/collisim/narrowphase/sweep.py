@@ -18,12 +18,13 @@ import math
 from ..core.compiling import kernel
 
 from ..core.geometry.segment import closest_on_segment
+from ..core.geometry.vector import length
 
 
 @kernel
 def _point_segment(px, py, x0, y0, x1, y1):
     qx, qy, _ = closest_on_segment(px, py, x0, y0, x1, y1)
-    return math.hypot(px - qx, py - qy)
+    return length(px - qx, py - qy)
 
 
 @kernel
@@ -85,4 +86,4 @@ def swept_circles(ox, oy, dx, dy, rsum):
     the start while the second moves by (dx, dy) relative to the first; rsum their radii's sum."""
     dd = dx * dx + dy * dy
     t = 0.0 if dd == 0.0 else min(max(-(ox * dx + oy * dy) / dd, 0.0), 1.0)
-    return math.hypot(ox + t * dx, oy + t * dy) - rsum
+    return length(ox + t * dx, oy + t * dy) - rsum

@@ -41,6 +41,7 @@ import numpy as np
 
 from ..compiling import kernel
 from .roots import first_down_crossing
+from .vector import length
 
 
 @kernel
@@ -156,8 +157,8 @@ def time_to_point(dx, dy, vx, vy, ax, ay, dist, t_max):
     # Cheap rejections: even heading straight for the point, it cannot get there; or its
     # distance along the line it starts on (a lower bound of the distance) stays above dist
     # (a body beside or below another under gravity, or moving away from it).
-    distance = math.hypot(dx, dy)
-    closest = distance - math.hypot(vx, vy) * t_hi - 0.5 * math.hypot(ax, ay) * t_hi * t_hi
+    distance = length(dx, dy)
+    closest = distance - length(vx, vy) * t_hi - 0.5 * length(ax, ay) * t_hi * t_hi
     if closest > dist or _stays_beyond(distance, (dx * vx + dy * vy) / distance, (dx * ax + dy * ay) / distance,
                                        dist * (1.0 + 1e-12), t_hi):
         return np.inf

@@ -1,4 +1,4 @@
-"""The length of a 2-D vector, as the discrete engine's inner loops compute it.
+"""The length of a 2-D vector, as the engines' inner loops and swept tests compute it.
 
 math.hypot (and np.hypot) guard against overflow and underflow of the squares, and cost about
 18 ns a call here against 3 ns for sqrt(x² + y²): the polygon narrow phase takes a length per
