@@ -364,9 +364,10 @@ class DiscreteStepper:
     def _run_part(self, out: Frames) -> Events:
         """run_frames on out (frames of the block): their events."""
         self.log.size[0] = 0
-        self.log, self.memory, self.contacts, ordered, self.idle_from = self.profile.timed(lambda phase_cycles: run_frames(
-            self.bodies, self.statics, self.broad, self.sleep, self.dt, self.substeps, self.step_count, out, self.log,
-            self.memory, self.contacts, self.work, self.order, phase_cycles))
+        self.log, self.memory, self.contacts, ordered, self.idle_from = self.profile.timed(
+            lambda phase_cycles: run_frames(self.bodies, self.statics, self.broad, self.sleep, self.dt, self.substeps,
+                                            self.step_count, out, self.log, self.memory, self.contacts, self.work,
+                                            self.order, phase_cycles))
         if out.approximate.any() and not self.warnings:
             frame = int(np.argmax(out.approximate))
             fast = self.work.fast.outpaced[0] > 0 and self.work.fast.outpaced[1] == frame
