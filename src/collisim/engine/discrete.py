@@ -318,7 +318,7 @@ class DiscreteStepper:
         self.profile = profile or Profile()
         self.step_count = 0
         self.warnings = []
-        self.idle = False   # every body asleep and none able to wake: run makes its blocks in numpy (idle.py)
+        self.asleep = None   # once every body sleeps and none can wake, the state it keeps (run: idle.py)
         self.order = None   # the world's number of each of the step's bodies, kept in cell order (cell_order.py)
         if keeps_cell_order(w, self.sleep):
             b = self.bodies   # (the stepper's own copies of what it renumbers)
@@ -328,14 +328,14 @@ class DiscreteStepper:
     def run(self, count: int, into=None):
         """Advance `count` frames: (Frames, Events). into: where to write the frames' positions
         and velocities (new_frames), or None for new arrays."""
-        if self.idle:   # every body asleep since the block before, none able to wake
+        if self.asleep is not None:   # every body asleep since the block before, none able to wake
             return timed_idle(self.profile, lambda: self._idle(count, into))
         b = self.bodies
         # contacts turn polygons, and circles with friction; otherwise ω stays as given
         turning = bool(np.any(b.angular_velocities != 0.0) or np.any(b.shapes != CIRCLE) or self.statics.friction > 0)
         out = new_frames(count, len(b.positions), turning, into)
         self.work.fast.outpaced[:] = 0
-        parts, done = [], 0
+        parts, done, idle_from = [], 0, count
         while done < count:   # in parts that end where the bodies are renumbered
             frame = self.step_count // self.substeps
             if self.order is not None and frame % ORDER_FRAMES == 0:   # (the contacts are found again)
@@ -343,28 +343,30 @@ class DiscreteStepper:
                                                    self.statics.box, self.cell_width)
                 self.contacts = self.contacts._replace(count=-1)
             part = count - done if self.order is None else min(count - done, ORDER_FRAMES - frame % ORDER_FRAMES)
-            parts.append(self._run_part(Frames(*(a[done:done + part] for a in out))))
-            idle_from = done + self.idle_from
+            events, idle_from = self._run_part(Frames(*(a[done:done + part] for a in out)))
+            parts.append(events)
+            idle_from += done
             done += part
         if not turning:
             out = constant_angles(out, in_world_numbers(b.angles, self.order), in_world_numbers(b.angular_velocities,
                                                                                                 self.order))
-        self.idle = idle_from < count
+        if idle_from < count:   # (the state the later blocks repeat, kept once)
+            self.asleep = tuple(a.copy() for a in (b.positions, b.velocities, b.angles, b.angular_velocities))
         out = repeat_idle(out, idle_from + 1, into is None)
         return out, parts[0] if len(parts) == 1 else Events.concatenate(parts)
 
     def _idle(self, count: int, into) -> tuple:
         """run(count, into) of a world asleep (idle.py)."""
-        b, sleep, first = self.bodies, self.sleep, self.step_count + 1
+        sleep, first = self.sleep, self.step_count + 1
         self.step_count += count * self.substeps
-        state = tuple(a.copy() for a in (b.positions, b.velocities, b.angles, b.angular_velocities))
-        return idle_block(count, first, count * self.substeps, self.dt, sleep.carried[:sleep.carried_count[0]], state,
-                          self.contacts.pairs.shape[0], self.work.recorded[:4], into)
+        return idle_block(count, first, count * self.substeps, self.dt, sleep.carried[:sleep.carried_count[0]],
+                          self.asleep, self.contacts.pairs.shape[0], self.work.recorded[:4], into)
 
-    def _run_part(self, out: Frames) -> Events:
-        """run_frames on out (frames of the block): their events."""
+    def _run_part(self, out: Frames) -> tuple:
+        """run_frames on out (frames of the block): their events, and the frame from which the
+        later ones repeat it (out's frame count if none)."""
         self.log.size[0] = 0
-        self.log, self.memory, self.contacts, ordered, self.idle_from = self.profile.timed(
+        self.log, self.memory, self.contacts, ordered, idle_from = self.profile.timed(
             lambda phase_cycles: run_frames(self.bodies, self.statics, self.broad, self.sleep, self.dt, self.substeps,
                                             self.step_count, out, self.log, self.memory, self.contacts, self.work,
                                             self.order, phase_cycles))
@@ -373,4 +375,4 @@ class DiscreteStepper:
             fast = self.work.fast.outpaced[0] > 0 and self.work.fast.outpaced[1] == frame
             self.warnings.append((fast_note if fast else held_note)(self.step_count // self.substeps + 1 + frame))
         self.step_count += len(out.positions) * self.substeps
-        return events_in_world_numbers(log_events(self.log, ordered=ordered), self.order)
+        return events_in_world_numbers(log_events(self.log, ordered=ordered), self.order), idle_from

@@ -20,7 +20,7 @@ def idle_block(count: int, first_step: int, steps: int, dt: float, carried: np.n
     """(Frames, Events) of `count` frames of `steps` steps of dt, from step number first_step, of a
     world asleep. carried (k, 5): the support each sleeper gives (body, static, impulse, x, y),
     logged at every step as islands.log_carried logs it; state: (positions, velocities, angles,
-    angular_velocities) as recorded; candidates and hierarchy (4,): the frame's counts, unchanged.
+    angular_velocities) as recorded, kept by the caller; candidates and hierarchy (4,): the frame's counts, unchanged.
     into: (positions, velocities) rows to fill, else the state is one row repeated (read-only)."""
     frames = Frames(*(np.broadcast_to(row, (count,) + row.shape) for row in state),
                     np.zeros((count, 3), np.int64), np.full(count, candidates, np.int64),
@@ -35,12 +35,12 @@ def support_events(first_step: int, steps: int, dt: float, carried: np.ndarray) 
     """The carried supports at each of `steps` steps, in canonical order: the steps in turn, and
     within a step the supports by (body, static), ties as carried (a stable sort)."""
     body, static = carried[:, 0].astype(np.intp), carried[:, 1].astype(np.intp)
-    rows = carried[np.lexsort((static, body))]
-    k = len(rows)
+    order = np.lexsort((static, body))
+    k = len(order)
     times = np.arange(first_step, first_step + steps, dtype=np.int64) * dt   # (as log_carried: step · dt)
-    return Events(np.repeat(times, k), np.full(k * steps, SUPPORT, np.int8),
-                  np.tile(rows[:, 0].astype(np.intp), steps), np.tile(rows[:, 1].astype(np.intp), steps),
-                  np.tile(rows[:, 2], steps), np.tile(rows[:, 3:5], (steps, 1)))
+    return Events(np.repeat(times, k), np.full(k * steps, SUPPORT, np.int8), np.tile(body[order], steps),
+                  np.tile(static[order], steps), np.tile(carried[order, 2], steps),
+                  np.tile(carried[order, 3:5], (steps, 1)))
 
 
 def timed_idle(profile, make):
