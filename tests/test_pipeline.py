@@ -11,7 +11,7 @@ import collisim
 from collisim.broadphase import NAMES
 from collisim.engine import concatenate, stream
 from collisim.engine.discrete import DiscreteStepper
-from collisim.engine.eventlog import append, in_canonical_order, new_log
+from collisim.engine.eventlog import append, in_canonical_order, into_canonical_order, new_log
 from collisim.model.trajectory import Events
 from collisim.engine.profile import PHASES
 from collisim.analysis.bench.segments import segment_gas
@@ -157,6 +157,26 @@ def test_the_event_log_is_capped_with_one_note_and_the_counts_stay_complete():
     np.testing.assert_array_equal(capped.collisions, full.collisions)
     none = collisim.simulate(scene, max_events=0)
     assert len(none.events) == 0 and none.collisions.sum() == full.collisions.sum()
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.tuples(st.integers(0, 5), st.integers(0, 4), st.integers(0, 40), st.integers(-1, 44)),
+                max_size=60), st.booleans(), st.sampled_from([1, 10 ** 6]))
+def test_the_step_sorts_its_log_as_lexsort_orders_the_events(rows, in_time_order, scale):
+    # the step sorts its block's log into (time, kind, i, j) order where it logged it, ties in
+    # the order logged (engine/eventlog.py); a log whose times go back is left for Python to sort
+    if in_time_order:   # as a block's log is: step after step
+        rows = sorted(rows, key=lambda row: row[0])
+    log = new_log(max(len(rows), 1))
+    for number, (time_, kind, i, j) in enumerate(rows):
+        append(log, time_ / 8.0, kind, i * scale, j * scale if j >= 0 else j, float(number), number, -number)
+    k = len(rows)
+    before = [np.array(field[:k]) for field in log[:6]]
+    expected = np.lexsort((before[3], before[2], before[1], before[0]))
+    times_go_back = bool(np.any(np.diff(before[0]) < 0))
+    assert into_canonical_order(log) == (not times_go_back)
+    for field, was in zip(log[:6], before):
+        assert np.array_equal(field[:k], was if times_go_back else was[expected])
 
 
 @settings(max_examples=200, deadline=None)

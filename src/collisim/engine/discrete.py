@@ -48,7 +48,7 @@ from ..statics.segment_index import build_segment_index
 from .cell_order import ORDER_FRAMES, events_in_world_numbers, in_world_numbers, keeps_cell_order, renumber
 from .frames import Frames, constant_angles, new_frames, record_state, repeat_idle
 from .idle import idle_block, timed_idle
-from .eventlog import append, in_canonical_order, log_events, new_log, with_room
+from .eventlog import append, into_canonical_order, log_events, new_log, with_room
 from .fast_polygons import (fast_note, fly_swept, keep_starts, mark_swept, note_outpaced, outpaced,
                             segment_reach)
 from .islands import new_sleep
@@ -280,7 +280,7 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
                 idle_from = frame
         t = _lap(phase_cycles, RECORD, t)
     phase_cycles[TOTAL] += cycles() - start
-    return log, memory, Contacts(found, rows, count, pairs, touching), in_canonical_order(log), idle_from
+    return log, memory, Contacts(found, rows, count, pairs, touching), into_canonical_order(log), idle_from
 
 
 class DiscreteStepper:

@@ -3,6 +3,7 @@ from collections import namedtuple
 
 import numpy as np
 
+from ..core.arrays import stable_order
 from ..core.compiling import compiled, constructor, kernel
 from ..model.trajectory import Events
 
@@ -68,6 +69,45 @@ def in_canonical_order(log):
                 return False
         elif log.j[k] < log.j[k - 1]:
             return False
+    return True
+
+
+@compiled
+def into_canonical_order(log):
+    """Put the logged collisions in canonical (time, kind, i, j) order, in place, and say whether
+    they are in it: the order model.trajectory.canonical_order gives (one integer key a row, the
+    time's rank, kind, i and j + 1 packed, sorted stably), sorted where they were logged, so that
+    Python need not sort each block (docs/benchmarks.md, polygons). Logs whose times decrease, or
+    whose keys would not fit in 62 bits, are left as they are (False): Python sorts those."""
+    k = log.size[0]
+    if in_canonical_order(log):
+        return True
+    span, ranks = 1, 1
+    for r in range(k):
+        if log.i[r] < 0 or log.j[r] < -1 or log.kind[r] < 0 or log.kind[r] >= 8:
+            return False
+        span = max(span, log.i[r] + 1, log.j[r] + 2)   # i and j + 1 lie in 0 .. span - 1
+        if r > 0 and log.time[r] != log.time[r - 1]:
+            if log.time[r] < log.time[r - 1]:
+                return False
+            ranks += 1
+    if float(ranks) * 8.0 * float(span) * float(span) >= 2.0 ** 62:
+        return False
+    keys, rank = np.empty(k, np.int64), 0
+    for r in range(k):
+        rank += 1 if r > 0 and log.time[r] != log.time[r - 1] else 0
+        keys[r] = ((rank * 8 + log.kind[r]) * span + log.i[r]) * span + log.j[r] + 1
+    order = stable_order(keys)
+    numbers, values = np.empty((k, 3), np.int64), np.empty((k, 4))
+    for r in range(k):
+        q = order[r]
+        numbers[r, 0], numbers[r, 1], numbers[r, 2] = log.kind[q], log.i[q], log.j[q]
+        values[r, 0], values[r, 1], values[r, 2], values[r, 3] = log.time[q], log.impulse[q], log.point[q, 0], \
+            log.point[q, 1]
+    for r in range(k):
+        log.kind[r], log.i[r], log.j[r] = numbers[r, 0], numbers[r, 1], numbers[r, 2]
+        log.time[r], log.impulse[r], log.point[r, 0], log.point[r, 1] = values[r, 0], values[r, 1], values[r, 2], \
+            values[r, 3]
     return True
 
 

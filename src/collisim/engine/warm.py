@@ -26,7 +26,7 @@ from ..response.solve import hold_contacts, rest_contacts
 from ..response.solver import add_contact_motion, collide
 from ..response.warmstart import recall, remember
 from .discrete import DiscreteStepper, _log_contacts
-from .eventlog import in_canonical_order, new_log
+from .eventlog import into_canonical_order, new_log
 from .fast_polygons import fly, pair_outpaced
 from .frames import new_frames
 from .hierarchy import count_placed
@@ -52,7 +52,7 @@ def far_end_calls(world, fps: float, substeps: int = 1, broadphase: str = "auto"
     found, pairs, flags = new_found(4), np.empty((0, 2), np.int64), np.zeros(n, np.bool_)
     no_touching = np.zeros(0, np.bool_)   # which of the (no) pairs touch
     out = new_frames(1, n)   # a frame's rows, as run_frames records them
-    recording = [(in_canonical_order, (log,)), (copy_rows, (b.positions, out.positions[0], n)),
+    recording = [(into_canonical_order, (log,)), (copy_rows, (b.positions, out.positions[0], n)),
                  (copy_rows, (b.angles, out.angles[0], n)), (copy_rows, (w.recorded, out.hierarchy[0], 4))]
     if w.levels is not None:   # the bounding-volume funnel of a world with polygons (hierarchy.py)
         recording.append((count_placed, (b, pairs, w.vertices, *w.levels, no_touching, out.hierarchy[0])))
