@@ -185,10 +185,12 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
     work: the step's per-body arrays (Work); order: None, or the world's number of each body where
     they are kept in cell order (cell_order.py: the frames are recorded in the world's order).
     phase_cycles (len(PHASES) + 1,) int64 receives the cycles per phase (engine/profile.py) and
-    their total. Returns (log, memory, contacts, whether the log is in canonical order:
-    eventlog.log_events then need not check it in Python, the frame from which every body
-    slept and none could wake, or out's frame count): every later frame of the block repeats
-    that one, recorded once, and is left for the caller to fill (DiscreteStepper.run)."""
+    their total. Returns (log, memory, contacts, whether the log is in canonical order, the
+    frame from which every body slept and none could wake, or out's frame count): every later
+    frame of the block repeats that one, recorded once, and is left for the caller to fill
+    (DiscreteStepper.run). The log is sorted here (eventlog.into_canonical_order) unless the
+    bodies are renumbered (order): their events are sorted once, in the world's numbers
+    (cell_order.events_in_world_numbers)."""
     start = cycles()
     b, s = bodies, statics
     n = b.positions.shape[0]
@@ -280,7 +282,8 @@ def run_frames(bodies, statics, broad, sleep, dt, substeps, step_count, out, log
                 idle_from = frame
         t = _lap(phase_cycles, RECORD, t)
     phase_cycles[TOTAL] += cycles() - start
-    return log, memory, Contacts(found, rows, count, pairs, touching), into_canonical_order(log), idle_from
+    ordered = into_canonical_order(log) if order is None else False
+    return log, memory, Contacts(found, rows, count, pairs, touching), ordered, idle_from
 
 
 class DiscreteStepper:
@@ -375,4 +378,6 @@ class DiscreteStepper:
             fast = self.work.fast.outpaced[0] > 0 and self.work.fast.outpaced[1] == frame
             self.warnings.append((fast_note if fast else held_note)(self.step_count // self.substeps + 1 + frame))
         self.step_count += len(out.positions) * self.substeps
-        return events_in_world_numbers(log_events(self.log, ordered=ordered), self.order), idle_from
+        # renumbered bodies' events are sorted once, in the world's numbers (events_in_world_numbers)
+        events = log_events(self.log, ordered=ordered or self.order is not None)
+        return events_in_world_numbers(events, self.order), idle_from

@@ -113,7 +113,8 @@ def into_canonical_order(log):
 
 def log_events(log: EventLog, time_offset: float = 0.0, ordered: bool = False) -> Events:
     """The logged collisions as Events in canonical (time, kind, i, j) order. ordered: they are
-    in that order already (in_canonical_order, run where they were logged)."""
+    in that order already (into_canonical_order, run where they were logged), or are to be
+    sorted by the caller."""
     k = int(log.size[0])
     events = Events(log.time[:k] + time_offset, log.kind[:k].copy(), log.i[:k].copy(), log.j[:k].copy(),
                     log.impulse[:k].copy(), log.point[:k].copy())
